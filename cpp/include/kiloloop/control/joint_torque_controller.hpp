@@ -1,0 +1,48 @@
+#pragma once
+// The frame shared by the joint-space torque controllers: configure-time sizing, the step()
+// contract (size check, bad-input policy of JointInputGuard, saturation, counters). A concrete
+// controller only supplies its control law.
+#include <string>
+
+#include <Eigen/Core>
+
+#include "kiloloop/control/joint_io.hpp"
+#include "kiloloop/dynamics/dynamics.hpp"
+#include "kiloloop/safety/joint_input_guard.hpp"
+
+namespace kiloloop {
+
+class JointTorqueController {
+ public:
+  JointTorqueController() = default;
+  JointTorqueController(JointTorqueController&&) = default;
+  JointTorqueController& operator=(JointTorqueController&&) = default;
+  virtual ~JointTorqueController() = default;
+
+  // out.tau must have size nq (make_output() gives one); otherwise kBadSize and out is untouched.
+  // Never allocates, throws or reads a clock; tau is always finite and within effort limits.
+  Status step(const JointControlInput& in, JointControlOutput& out) noexcept;
+
+  int nq() const { return dyn_.nq(); }
+  JointControlInput make_input() const { return make_joint_input(nq()); }
+  JointControlOutput make_output() const { return make_joint_output(nq()); }
+  const StepCounters& counters() const { return counters_; }
+
+ protected:
+  Status configure_common(const Eigen::VectorXd& kp, const Eigen::VectorXd& kd,
+                          const Eigen::Vector3d& gravity, double max_measurement_age,
+                          RobotModelPtr model, std::string* why);
+  // The law itself, on a validated measurement and a validated (clamped) reference q_ref.
+  virtual Status law(const JointControlInput& in, const Eigen::VectorXd& q_ref,
+                     Eigen::Ref<Eigen::VectorXd> tau) noexcept = 0;
+
+  Dynamics dyn_;
+  Eigen::VectorXd kp_, kd_;
+
+ private:
+  JointInputGuard guard_;
+  StepCounters counters_;
+  bool configured_ = false;
+};
+
+}  // namespace kiloloop

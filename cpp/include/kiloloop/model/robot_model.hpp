@@ -1,0 +1,65 @@
+#pragma once
+// RobotModel: the immutable description of a robot (KDL tree, the serial chain a controller uses,
+// joint names and limits). Built once at init, from URDF (kiloloop/urdf/) or a DH table
+// (model/dh.hpp), then shared read-only by any number of workspaces (Dynamics, controllers).
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+#include <kdl/chain.hpp>
+#include <kdl/tree.hpp>
+
+#include "kiloloop/status.hpp"
+
+namespace kiloloop {
+
+// Limits of one joint; a missing limit is +-infinity.
+struct JointLimit {
+  double lower = -std::numeric_limits<double>::infinity();  // [rad] or [m]
+  double upper = std::numeric_limits<double>::infinity();   // [rad] or [m]
+  double velocity = std::numeric_limits<double>::infinity();  // [rad/s] or [m/s]
+  double effort = std::numeric_limits<double>::infinity();    // [N m] or [N]
+};
+
+class RobotModel {
+ public:
+  // Builds the model from a KDL tree. `root`/`tip` select a serial chain (root defaults to the
+  // tree's base link, tip to the only leaf when the tree does not branch). Limits are looked up
+  // by joint name. Fails with a reason naming the link or joint at fault.
+  static Status create(const KDL::Tree& tree, const std::string& root, const std::string& tip,
+                       const std::map<std::string, JointLimit>& limits, RobotModel* out,
+                       std::string* why);
+
+  int nq() const { return static_cast<int>(joint_names_.size()); }
+  bool has_chain() const { return has_chain_; }
+  const KDL::Tree& tree() const { return tree_; }
+  const KDL::Chain& chain() const { return chain_; }  // empty unless has_chain()
+  const std::string& root_name() const { return root_; }
+  const std::string& tip_name() const { return tip_; }
+  const std::vector<std::string>& joint_names() const { return joint_names_; }
+  const Eigen::VectorXd& lower() const { return lower_; }      // (nq)
+  const Eigen::VectorXd& upper() const { return upper_; }      // (nq)
+  const Eigen::VectorXd& velocity_limit() const { return velocity_; }  // (nq)
+  const Eigen::VectorXd& effort_limit() const { return effort_; }      // (nq)
+  // Total mass of every segment in the tree [kg], root-link inertia included when restored.
+  double total_mass() const;
+  // True when the URDF root link carried an inertia that kdl_parser would have dropped and the
+  // loader restored it as a fixed segment (see kiloloop/urdf/urdf_loader.hpp).
+  bool root_inertia_restored() const { return root_inertia_restored_; }
+  void set_root_inertia_restored(bool v) { root_inertia_restored_ = v; }
+
+ private:
+  KDL::Tree tree_{"root"};
+  KDL::Chain chain_;
+  bool has_chain_ = false;
+  bool root_inertia_restored_ = false;
+  std::string root_, tip_;
+  std::vector<std::string> joint_names_;
+  Eigen::VectorXd lower_, upper_, velocity_, effort_;
+};
+
+using RobotModelPtr = std::shared_ptr<const RobotModel>;
+
+}  // namespace kiloloop

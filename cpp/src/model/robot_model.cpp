@@ -1,0 +1,82 @@
+#include "kiloloop/model/robot_model.hpp"
+
+#include <algorithm>
+
+namespace kiloloop {
+namespace {
+
+// The only leaf below `from` when no segment branches; empty when the tree branches.
+std::string unique_leaf(const KDL::Tree& tree, const std::string& from) {
+  auto it = tree.getSegment(from);
+  while (true) {
+    const auto& children = GetTreeElementChildren(it->second);
+    if (children.empty()) return it->first;
+    if (children.size() > 1) return {};
+    it = children.front();
+  }
+}
+
+}  // namespace
+
+Status RobotModel::create(const KDL::Tree& tree, const std::string& root, const std::string& tip,
+                          const std::map<std::string, JointLimit>& limits, RobotModel* out,
+                          std::string* why) {
+  auto fail = [&](const std::string& msg) {
+    if (why) *why = msg;
+    return Status::kModelError;
+  };
+  if (out == nullptr) return fail("RobotModel::create: null output");
+  RobotModel m;
+  m.tree_ = tree;
+  m.root_ = root.empty() ? tree.getRootSegment()->first : root;
+  if (tree.getSegment(m.root_) == tree.getSegments().end())
+    return fail("root link '" + m.root_ + "' is not in the model");
+  m.tip_ = tip.empty() ? unique_leaf(tree, m.root_) : tip;
+  if (!tip.empty() && tree.getSegment(tip) == tree.getSegments().end())
+    return fail("tip link '" + tip + "' is not in the model");
+
+  std::vector<std::string> names;
+  if (!m.tip_.empty()) {
+    if (!tree.getChain(m.root_, m.tip_, m.chain_))
+      return fail("no chain from '" + m.root_ + "' to '" + m.tip_ + "'");
+    m.has_chain_ = true;
+    for (const auto& seg : m.chain_.segments)
+      if (seg.getJoint().getType() != KDL::Joint::None) names.push_back(seg.getJoint().getName());
+  } else {
+    // Branching tree without a tip: joints in KDL's q_nr order, so vectors index like KDL's.
+    names.resize(tree.getNrOfJoints());
+    for (const auto& [name, el] : tree.getSegments()) {
+      const auto& seg = GetTreeElementSegment(el);
+      if (seg.getJoint().getType() != KDL::Joint::None)
+        names[GetTreeElementQNr(el)] = seg.getJoint().getName();
+    }
+  }
+  const int n = static_cast<int>(names.size());
+  m.joint_names_ = names;
+  m.lower_.resize(n);
+  m.upper_.resize(n);
+  m.velocity_.resize(n);
+  m.effort_.resize(n);
+  for (int i = 0; i < n; ++i) {
+    const auto it = limits.find(names[i]);
+    const JointLimit lim = it == limits.end() ? JointLimit{} : it->second;
+    if (!(lim.lower <= lim.upper)) return fail("joint '" + names[i] + "': lower limit > upper");
+    if (!(lim.velocity > 0) || !(lim.effort > 0))
+      return fail("joint '" + names[i] + "': velocity and effort limits must be > 0");
+    m.lower_[i] = lim.lower;
+    m.upper_[i] = lim.upper;
+    m.velocity_[i] = lim.velocity;
+    m.effort_[i] = lim.effort;
+  }
+  *out = std::move(m);
+  return Status::kOk;
+}
+
+double RobotModel::total_mass() const {
+  double mass = 0.0;
+  for (const auto& [name, el] : tree_.getSegments())
+    mass += GetTreeElementSegment(el).getInertia().getMass();
+  return mass;
+}
+
+}  // namespace kiloloop

@@ -1,0 +1,221 @@
+"""MuJoCo plant built at run time from a URDF plus a small TOML overlay (models/<robot>/sim.toml).
+
+The URDF is the single source of truth for kinematics, inertia and limits; the overlay adds what
+only the simulator needs: integrator, floor, joint damping/friction/armature, torque motors, an
+end-effector site and joint sensors. All arrays are numpy, SI units, in URDF joint order.
+"""
+from __future__ import annotations
+
+import tomllib
+import xml.etree.ElementTree as ET
+from pathlib import Path
+
+import mujoco
+import numpy as np
+
+_DEFAULTS = {
+    "physics": {"timestep": 0.001, "integrator": "implicitfast",
+                "gravity": [0.0, 0.0, -9.81], "floor": True},
+    "joints": {"damping": 0.0, "frictionloss": 0.0, "armature": 0.0, "q0": None},
+    "actuators": {"type": "motor"},
+    "ee": {"body": "tool0", "site": "ee_site"},
+}
+# mj_step1/mj_step2 do not support RK4, and the plant relies on the split (see step()).
+_INTEGRATORS = {"euler": mujoco.mjtIntegrator.mjINT_EULER,
+                "implicit": mujoco.mjtIntegrator.mjINT_IMPLICIT,
+                "implicitfast": mujoco.mjtIntegrator.mjINT_IMPLICITFAST}
+_ACTUATED = ("revolute", "continuous", "prismatic")
+
+
+def _load_overlay(overlay) -> dict:
+    if overlay is None:
+        user = {}
+    elif isinstance(overlay, dict):
+        user = overlay
+    else:
+        with open(overlay, "rb") as f:
+            user = tomllib.load(f)
+    merged = {k: dict(v) for k, v in _DEFAULTS.items()}
+    for section, values in user.items():
+        if section not in merged:
+            raise ValueError(f"overlay: unknown section [{section}]")
+        merged[section].update(values)
+    return merged
+
+
+def _per_joint(value, n: int, name: str) -> np.ndarray:
+    arr = np.asarray(value, dtype=float)
+    if arr.ndim == 0:
+        arr = np.full(n, float(arr))
+    if arr.shape != (n,) or not np.all(np.isfinite(arr)) or np.any(arr < 0):
+        raise ValueError(f"{name}: expected a non-negative scalar or a sequence of {n}, "
+                         f"got {value!r}")
+    return arr
+
+
+def _urdf_joints(urdf_path: Path) -> tuple[list[str], np.ndarray]:
+    """Actuated joint names in URDF document order, and their effort limits [N m] (inf if none)."""
+    names, effort = [], []
+    # Direct children only: <transmission> elements also contain <joint> tags.
+    for joint in ET.parse(urdf_path).getroot().findall("joint"):
+        if joint.get("type") not in _ACTUATED:
+            continue
+        names.append(joint.get("name"))
+        limit = joint.find("limit")
+        e = float(limit.get("effort", 0.0)) if limit is not None else 0.0
+        effort.append(e if e > 0 else np.inf)
+    return names, np.array(effort)
+
+
+class MujocoPlant:
+    """A torque-controlled MuJoCo model of a fixed-base URDF robot."""
+
+    def __init__(self, urdf_path, overlay=None, *, timestep=None, damping=None, frictionloss=None,
+                 armature=None, floor=None):
+        urdf_path = Path(urdf_path)
+        cfg = _load_overlay(overlay)
+        phys, jcfg = cfg["physics"], cfg["joints"]
+        for key, val in (("damping", damping), ("frictionloss", frictionloss),
+                         ("armature", armature)):
+            if val is not None:
+                jcfg[key] = val
+        if timestep is not None:
+            phys["timestep"] = timestep
+        if floor is not None:
+            phys["floor"] = floor
+
+        self.joint_names, effort = _urdf_joints(urdf_path)
+        self.nq = len(self.joint_names)
+
+        spec = mujoco.MjSpec.from_file(str(urdf_path))
+        # The URDF importer fuses fixed-joint children (tool0) into their parent by default; keep
+        # them so the end-effector site sits on the URDF frame itself.
+        spec.compiler.fusestatic = False
+        # Inertia comes only from <inertial>, never from the collision primitives.
+        spec.compiler.inertiafromgeom = mujoco.mjtInertiaFromGeom.mjINERTIAFROMGEOM_FALSE
+        spec.compiler.discardvisual = True
+
+        integrator = str(phys["integrator"]).lower()
+        if integrator not in _INTEGRATORS:
+            raise ValueError(f"integrator: expected one of {sorted(_INTEGRATORS)}, "
+                             f"got {integrator!r}")
+        spec.option.integrator = _INTEGRATORS[integrator]
+        spec.option.timestep = float(phys["timestep"])
+        spec.option.gravity = np.asarray(phys["gravity"], dtype=float)
+
+        # Robot geoms: contype 0, conaffinity 1. Environment geoms (floor, obstacles; default
+        # contype 1) hit them, but two robot geoms never collide, adjacent or not.
+        for geom in spec.geoms:
+            geom.contype, geom.conaffinity = 0, 1
+        if phys["floor"]:
+            spec.worldbody.add_geom(name="floor", type=mujoco.mjtGeom.mjGEOM_PLANE,
+                                    size=[0.0, 0.0, 0.05], contype=1, conaffinity=1)
+
+        damp, fric, arm = (_per_joint(jcfg[k], self.nq, k)
+                           for k in ("damping", "frictionloss", "armature"))
+        for name, b, f, a in zip(self.joint_names, damp, fric, arm):
+            joint = spec.joint(name)
+            joint.damping = [b, 0.0, 0.0]  # MuJoCo 4: linear coefficient, then polynomial terms
+            joint.frictionloss, joint.armature = f, a
+
+        act_type = cfg["actuators"]["type"]
+        if act_type != "motor":
+            raise ValueError(f"actuators.type: only 'motor' is supported, got {act_type!r}")
+        for name, e in zip(self.joint_names, effort):
+            act = spec.add_actuator(name=name, target=name, trntype=mujoco.mjtTrn.mjTRN_JOINT)
+            act.set_to_motor()
+            if np.isfinite(e):
+                act.ctrllimited = act.forcelimited = mujoco.mjtLimited.mjLIMITED_TRUE
+                act.ctrlrange = act.forcerange = [-e, e]
+            spec.add_sensor(name=f"{name}_pos", type=mujoco.mjtSensor.mjSENS_JOINTPOS,
+                            objtype=mujoco.mjtObj.mjOBJ_JOINT, objname=name)
+            spec.add_sensor(name=f"{name}_vel", type=mujoco.mjtSensor.mjSENS_JOINTVEL,
+                            objtype=mujoco.mjtObj.mjOBJ_JOINT, objname=name)
+
+        ee = cfg["ee"]
+        self.ee_site = ee["site"]
+        ee_body = spec.body(ee["body"])
+        if ee_body is None:
+            raise ValueError(f"ee.body: no link named {ee['body']!r} in {urdf_path}")
+        ee_body.add_site(name=self.ee_site)
+
+        self.spec = spec  # kept for inspection, e.g. plant.spec.to_xml()
+        self.model = spec.compile()
+        self.data = mujoco.MjData(self.model)
+        # Scratch data for inverse dynamics, so queries never disturb the simulated state.
+        self._scratch = mujoco.MjData(self.model)
+
+        m = self.model
+        jid = [m.joint(n).id for n in self.joint_names]
+        self._qadr = m.jnt_qposadr[jid].copy()
+        self._dadr = m.jnt_dofadr[jid].copy()
+        self._act = np.array([m.actuator(n).id for n in self.joint_names])
+        self._pos_sens = np.array([m.sensor_adr[m.sensor(f"{n}_pos").id] for n in self.joint_names])
+        self._vel_sens = np.array([m.sensor_adr[m.sensor(f"{n}_vel").id] for n in self.joint_names])
+        self._site = m.site(self.ee_site).id
+        q0 = jcfg["q0"]
+        self.q0 = np.zeros(self.nq) if q0 is None else self._vector(q0, "q0")
+        self.reset()
+
+    @property
+    def timestep(self) -> float:
+        return float(self.model.opt.timestep)
+
+    def _vector(self, x, name: str) -> np.ndarray:
+        arr = np.asarray(x, dtype=float)
+        if arr.shape != (self.nq,):
+            raise ValueError(f"{name}: expected shape ({self.nq},), got {arr.shape}")
+        if not np.all(np.isfinite(arr)):
+            raise ValueError(f"{name}: non-finite value")
+        return arr
+
+    def reset(self, q=None, qd=None) -> None:
+        mujoco.mj_resetData(self.model, self.data)
+        self.data.qpos[self._qadr] = self.q0 if q is None else self._vector(q, "q")
+        self.data.qvel[self._dadr] = 0.0 if qd is None else self._vector(qd, "qd")
+        # Fill positions, velocities and sensors for the state just set (see step()).
+        mujoco.mj_forward(self.model, self.data)
+
+    def q(self) -> np.ndarray:
+        return self.data.sensordata[self._pos_sens].copy()
+
+    def qd(self) -> np.ndarray:
+        return self.data.sensordata[self._vel_sens].copy()
+
+    def set_torque(self, tau) -> None:
+        # MuJoCo clamps ctrl to ctrlrange (the URDF effort limit) inside the step.
+        self.data.ctrl[self._act] = self._vector(tau, "tau")
+
+    def step(self, n: int = 1) -> None:
+        # mj_step2 then mj_step1 instead of mj_step: mj_step computes sensors and site poses before
+        # integrating, so after it they would describe the previous state. This way q(), qd() and
+        # ee_pose() always describe the current state, at the cost of one mj_step.
+        for _ in range(int(n)):
+            mujoco.mj_step2(self.model, self.data)
+            mujoco.mj_step1(self.model, self.data)
+
+    def time(self) -> float:
+        return float(self.data.time)
+
+    def ee_pose(self) -> tuple[np.ndarray, np.ndarray]:
+        """End-effector site position (3,) [m] and rotation (3, 3) in the world frame."""
+        return (self.data.site_xpos[self._site].copy(),
+                self.data.site_xmat[self._site].reshape(3, 3).copy())
+
+    def inverse_dynamics(self, q, qd, qdd) -> np.ndarray:
+        """Joint torques [N m] that produce qdd at (q, qd): M qdd + bias - passive (damping).
+
+        Contacts, joint limits and friction loss (all constraints) are excluded, so with zero
+        damping and armature this is the rigid-body inverse dynamics of the URDF.
+        """
+        d = self._scratch
+        d.qpos[self._qadr] = self._vector(q, "q")
+        d.qvel[self._dadr] = self._vector(qd, "qd")
+        d.qacc[self._dadr] = self._vector(qdd, "qdd")
+        flags = self.model.opt.disableflags
+        self.model.opt.disableflags = flags | mujoco.mjtDisableBit.mjDSBL_CONSTRAINT
+        try:
+            mujoco.mj_inverse(self.model, d)
+        finally:
+            self.model.opt.disableflags = flags
+        return d.qfrc_inverse[self._dadr].copy()
