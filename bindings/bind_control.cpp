@@ -1,0 +1,82 @@
+#include "common.hpp"
+#include "kiloloop/control/computed_torque.hpp"
+#include "kiloloop/control/joint_pd_gravity.hpp"
+
+namespace kiloloop::py_glue {
+namespace {
+
+// Vector fields appear in Python as numpy views into the C++ struct (writes go straight in, no
+// copy per tick); assigning a new array replaces the vector, any size (the step checks sizes).
+template <class Class>
+void vector_field(py::class_<Class>& cls, const char* name, Eigen::VectorXd Class::*member,
+                  const char* doc) {
+  cls.def_property(
+      name,
+      py::cpp_function([member](Class& self) -> Eigen::Ref<Eigen::VectorXd> { return self.*member; },
+                       py::return_value_policy::reference_internal),
+      [member](Class& self, const Eigen::VectorXd& v) { self.*member = v; }, doc);
+}
+
+template <class Config>
+void bind_joint_config(py::module_& m, const char* name) {
+  py::class_<Config>(m, name)
+      .def(py::init<>())
+      .def_readwrite("kp", &Config::kp)
+      .def_readwrite("kd", &Config::kd)
+      .def_readwrite("gravity", &Config::gravity)
+      .def_readwrite("max_measurement_age", &Config::max_measurement_age);
+}
+
+template <class Controller, class Config>
+void bind_joint_controller(py::module_& m, const char* name, const char* doc) {
+  py::class_<Controller>(m, name, doc)
+      .def(py::init([](std::shared_ptr<RobotModel> model, const std::optional<Config>& config) {
+             Controller c;
+             std::string why;
+             raise_if_failed(Controller::configure(config.value_or(Config{}), model, &c, &why), why);
+             return c;
+           }),
+           py::arg("model"), py::arg("config") = py::none())
+      .def("step", &Controller::step, py::arg("input"), py::arg("output"),
+           "One tick: writes output.tau, returns the Status (also in output.status)")
+      .def_property_readonly("nq", &Controller::nq)
+      .def("make_input", &Controller::make_input)
+      .def("make_output", &Controller::make_output)
+      .def_property_readonly("counters", &Controller::counters);
+}
+
+}  // namespace
+
+void bind_control(py::module_& m) {
+  py::class_<JointControlInput> in(m, "JointControlInput");
+  in.def(py::init<>())
+      .def_readwrite("t", &JointControlInput::t, "[s] controller time of this tick")
+      .def_readwrite("stamp", &JointControlInput::stamp, "[s] time the measurement was sampled");
+  vector_field(in, "q", &JointControlInput::q, "(nq) [rad] measured position");
+  vector_field(in, "qd", &JointControlInput::qd, "(nq) [rad/s] measured velocity");
+  vector_field(in, "q_ref", &JointControlInput::q_ref, "(nq) [rad] reference position");
+  vector_field(in, "qd_ref", &JointControlInput::qd_ref, "(nq) [rad/s] reference velocity");
+  vector_field(in, "qdd_ref", &JointControlInput::qdd_ref, "(nq) [rad/s^2] reference acceleration");
+
+  py::class_<JointControlOutput> out(m, "JointControlOutput");
+  out.def(py::init<>()).def_readwrite("status", &JointControlOutput::status);
+  vector_field(out, "tau", &JointControlOutput::tau, "(nq) [N m] torque command");
+
+  py::class_<StepCounters>(m, "StepCounters")
+      .def_readonly("ticks", &StepCounters::ticks)
+      .def_readonly("saturated", &StepCounters::saturated)
+      .def_readonly("reference_clamped", &StepCounters::reference_clamped)
+      .def_readonly("non_finite_measurement", &StepCounters::non_finite_measurement)
+      .def_readonly("non_finite_reference", &StepCounters::non_finite_reference)
+      .def_readonly("stale_measurement", &StepCounters::stale_measurement)
+      .def_readonly("bad_size", &StepCounters::bad_size);
+
+  bind_joint_config<ComputedTorqueConfig>(m, "ComputedTorqueConfig");
+  bind_joint_config<JointPdGravityConfig>(m, "JointPdGravityConfig");
+  bind_joint_controller<ComputedTorqueController, ComputedTorqueConfig>(
+      m, "ComputedTorqueController", "tau = M(q)(qdd_ref + Kd e_dot + Kp e) + C(q,qd)qd + g(q)");
+  bind_joint_controller<JointPdGravityController, JointPdGravityConfig>(
+      m, "JointPdGravityController", "tau = Kp e + Kd e_dot + g(q)");
+}
+
+}  // namespace kiloloop::py_glue

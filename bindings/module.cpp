@@ -1,0 +1,13 @@
+// kiloloop._core: the compiled core, re-exported by the `kiloloop` package.
+#include "common.hpp"
+
+PYBIND11_MODULE(_core, m) {
+  using namespace kiloloop::py_glue;
+  m.doc() = "kiloloop compiled core (C++): models, dynamics, trajectories, controllers";
+  m.attr("__version__") = KILOLOOP_VERSION;
+  bind_status(m);
+  bind_model(m);
+  bind_dynamics(m);
+  bind_trajectory(m);
+  bind_control(m);
+}

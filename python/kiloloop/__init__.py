@@ -1,0 +1,16 @@
+"""kiloloop: a deterministic 1 kHz robot control core (C++), bound to Python.
+
+The compiled core lives in `kiloloop._core`; its classes are re-exported here so that
+`import kiloloop as kl; kl.RobotModel.from_urdf(...)` works. The SIL plant, loop, scenarios and
+CLI are pure Python around that core.
+"""
+from importlib.resources import files as _files
+from pathlib import Path as _Path
+
+from ._core import *  # noqa: F401,F403
+from ._core import __version__  # noqa: F401
+
+
+def models_dir() -> _Path:
+    """Directory holding the robot models (URDF + sim overlay), installed with the package."""
+    return _Path(str(_files("kiloloop") / "models"))

@@ -1,0 +1,19 @@
+#!/usr/bin/env bash
+# Installs the Debian packages the C++ core builds against, when any is missing.
+# As root: apt-get installs them. Otherwise: prints the exact command and fails.
+set -euo pipefail
+packages=(libeigen3-dev liborocos-kdl-dev liburdfdom-dev libkdl-parser-dev libgtest-dev g++)
+missing=()
+for p in "${packages[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+[ ${#missing[@]} -eq 0 ] && exit 0
+cmd="apt-get update && apt-get install -y --no-install-recommends ${missing[*]}"
+if [ "$(id -u)" -ne 0 ]; then
+  echo "kiloloop needs Debian packages: ${missing[*]}" >&2
+  echo "run as root:  $cmd" >&2
+  exit 1
+fi
+echo "installing Debian packages: ${missing[*]}"
+export DEBIAN_FRONTEND=noninteractive
+apt-get update -qq && apt-get install -y -qq --no-install-recommends "${missing[@]}"
