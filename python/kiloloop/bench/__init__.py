@@ -1,0 +1,135 @@
+"""`kiloloop bench`: the C++ core benchmark (ours vs raw KDL) plus SIL timing figures.
+
+The per-call latencies come from the compiled `kiloloop_bench_core` program installed with the
+package (timing in C++, allocation counting in its own process); this module runs it, then
+measures the SIL loop in Python: real-time factor of arm-track and the cost of one SIL tick
+relative to one raw `mj_step` of the same MuJoCo model.
+"""
+from __future__ import annotations
+
+import json
+import platform
+import subprocess
+import sys
+import time
+from importlib.resources import files
+from pathlib import Path
+
+import mujoco
+import numpy as np
+
+import kiloloop as kl
+
+
+def core_benchmark(quick: bool) -> dict:
+    exe = Path(str(files("kiloloop") / "bin" / "kiloloop_bench_core"))
+    urdf = kl.models_dir() / "ur5" / "ur5.urdf"
+    cmd = [str(exe), str(urdf), "--json"] + (["--quick"] if quick else [])
+    out = subprocess.run(cmd, check=True, capture_output=True, text=True)
+    return json.loads(out.stdout)
+
+
+def _raw_mj_step_seconds(plant, steps: int) -> float:
+    """Per-step cost of plain mj_step on the plant's model, holding the last torques."""
+    model, data = plant.model, mujoco.MjData(plant.model)
+    data.qpos[:] = plant.data.qpos
+    data.ctrl[:] = plant.data.ctrl
+    mujoco.mj_forward(model, data)
+    start = time.perf_counter()
+    for _ in range(steps):
+        mujoco.mj_step(model, data)
+    return (time.perf_counter() - start) / steps
+
+
+def _python_step_seconds(calls: int) -> float:
+    """Cost of one ComputedTorqueController.step call through the bindings (UR5)."""
+    model = kl.RobotModel.from_urdf(str(kl.models_dir() / "ur5" / "ur5.urdf"))
+    ctrl = kl.ComputedTorqueController(model)
+    inp, out = ctrl.make_input(), ctrl.make_output()
+    inp.q[:] = [0.0, -1.57, 1.57, -1.57, -1.57, 0.0]
+    inp.q_ref[:] = inp.q + 0.01
+    step = ctrl.step
+    start = time.perf_counter()
+    for _ in range(calls):
+        step(inp, out)
+    return (time.perf_counter() - start) / calls
+
+
+def sil_benchmark(quick: bool) -> dict:
+    from ..scenarios import arm_track, parse_settings
+    from ..sil.plant import MujocoPlant
+
+    duration = 1.0 if quick else arm_track.DURATION
+    settings = parse_settings(arm_track.DEFAULTS, None)
+    start = time.perf_counter()
+    result = arm_track.run(settings, duration=duration)
+    wall = time.perf_counter() - start
+    ticks = result.metrics["ticks"]
+
+    # The same loop without scenario set-up (URDF load, MjSpec compile) and post-processing.
+    base = kl.models_dir() / "ur5"
+    plant = MujocoPlant(base / "ur5.urdf", base / "sim.toml")
+    raw_step = _raw_mj_step_seconds(plant, ticks)
+    from ..sil.loop import LoopSettings, run_loop
+
+    model = kl.RobotModel.from_urdf(str(base / "ur5.urdf"))
+    traj = kl.QuinticTrajectory(np.vstack([plant.q0, settings["waypoint_1"], settings["waypoint_2"]]),
+                                np.array([0.0, settings["t_1"], settings["t_2"]]))
+    tick = arm_track.JointTrackingTick(kl.ComputedTorqueController(model), traj)
+    start = time.perf_counter()
+    run_loop(plant, tick, LoopSettings(duration=duration))
+    loop_wall = time.perf_counter() - start
+    tick_cost = loop_wall / ticks
+    return {
+        "scenario": "arm-track",
+        "sim_seconds": duration,
+        "ticks": ticks,
+        "physics_dt": plant.timestep,
+        "scenario_wall_s": wall,
+        "real_time_factor_scenario": duration / wall,
+        "real_time_factor_loop": duration / loop_wall,
+        "tick_cost_us": tick_cost * 1e6,
+        "raw_mj_step_us": raw_step * 1e6,
+        "tick_over_mj_step": tick_cost / raw_step,
+        "python_controller_step_us": _python_step_seconds(20000 if quick else 100000) * 1e6,
+    }
+
+
+def _print_core(core: dict) -> None:
+    m = core["machine"]
+    print(f"C++ core, UR5, {core['calls']} calls each  [{m['cpu']}, {m['nproc']} cores, "
+          f"{m['compiler']}, {m['build']}]")
+    print(f"  {'call':<28}{'median':>8}{'p99':>8}{'max':>9}{'alloc':>7}   "
+          f"{'raw KDL':<24}{'median':>8}{'p99':>8}{'ratio':>7}")
+    for r in core["results"]:
+        raw = r.get("raw_name")
+        tail = (f"{raw:<24}{r['raw_median_ns']:>8}{r['raw_p99_ns']:>8}{r['ratio_median']:>7.2f}"
+                if raw else "")
+        print(f"  {r['name']:<28}{r['median_ns']:>8}{r['p99_ns']:>8}{r['max_ns']:>9}"
+              f"{r['allocations_per_call']:>7.2f}   {tail}")
+    print("  times in ns; ratio = ours/raw medians (goal <= 1.2); alloc = heap allocations per call")
+
+
+def _print_sil(sil: dict) -> None:
+    print(f"SIL {sil['scenario']} ({sil['sim_seconds']} s simulated, {sil['ticks']} ticks, "
+          f"physics dt {sil['physics_dt'] * 1e3:g} ms)")
+    print(f"  real-time factor, whole scenario   {sil['real_time_factor_scenario']:8.1f} x")
+    print(f"  real-time factor, loop only        {sil['real_time_factor_loop']:8.1f} x")
+    print(f"  SIL tick cost                      {sil['tick_cost_us']:8.1f} us")
+    print(f"  raw mj_step cost                   {sil['raw_mj_step_us']:8.1f} us")
+    print(f"  SIL tick / raw mj_step             {sil['tick_over_mj_step']:8.2f}")
+    print(f"  controller step via Python         {sil['python_controller_step_us']:8.2f} us")
+
+
+def run_benchmarks(quick: bool = False, as_json: bool = False) -> int:
+    core = core_benchmark(quick)
+    sil = sil_benchmark(quick)
+    report = {"python": sys.version.split()[0], "platform": platform.platform(),
+              "mujoco": mujoco.__version__, "kiloloop": kl.__version__, "core": core, "sil": sil}
+    if as_json:
+        print(json.dumps(report))
+    else:
+        _print_core(core)
+        print()
+        _print_sil(sil)
+    return 0

@@ -1,0 +1,91 @@
+"""The `kiloloop` command: list scenarios, run one, run the benchmarks."""
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+
+
+def _format_value(v) -> str:
+    return f"{v:.4g}" if isinstance(v, float) else str(v)
+
+
+def _print_summary(result, settings) -> None:
+    print(f"scenario {result.scenario}: {'PASSED' if result.passed else 'FAILED'}")
+    for key in ("controller",):
+        if key in settings:
+            print(f"  {key}: {settings[key]}")
+    print("  metrics:")
+    for name, value in result.metrics.items():
+        print(f"    {name:<24} {_format_value(value)}")
+    print("  criteria:")
+    for name, c in result.criteria.items():
+        mark = "ok  " if c["passed"] else "FAIL"
+        print(f"    {mark} {name} = {_format_value(c['value'])} {c['op']} {c['threshold']}")
+
+
+def cmd_list(_args) -> int:
+    from . import scenarios
+
+    for name in scenarios.names():
+        print(f"{name:<20} {scenarios.get(name).DESCRIPTION}")
+    return 0
+
+
+def cmd_run(args) -> int:
+    from . import scenarios
+
+    try:
+        module = scenarios.get(args.scenario)
+        settings = scenarios.parse_settings(module.DEFAULTS, args.set)
+    except (KeyError, ValueError) as e:
+        print(f"kiloloop run: {e.args[0]}", file=sys.stderr)
+        return 2
+    result = module.run(settings, seed=args.seed, duration=args.duration)
+    if args.log:
+        result.log.save(args.log)
+    if args.plot:
+        from .plot import plot_log
+
+        title = f"{result.scenario} ({settings.get('controller', '')})".replace(" ()", "")
+        plot_log(result.log, module.plot_signals(), args.plot, title=title)
+    if args.json:
+        print(json.dumps(result.to_json()))
+    else:
+        _print_summary(result, settings)
+        for label, path in (("log", args.log), ("plot", args.plot)):
+            if path:
+                print(f"  {label}: {path}")
+    return 0 if result.passed else 1
+
+
+def cmd_bench(args) -> int:
+    from .bench import run_benchmarks
+
+    return run_benchmarks(quick=args.quick, as_json=args.json)
+
+
+def main(argv=None) -> int:
+    parser = argparse.ArgumentParser(prog="kiloloop", description=__doc__)
+    sub = parser.add_subparsers(dest="command", required=True)
+    sub.add_parser("list", help="list the SIL scenarios").set_defaults(func=cmd_list)
+    run = sub.add_parser("run", help="run one SIL scenario")
+    run.add_argument("scenario")
+    run.add_argument("--duration", type=float, default=None, help="simulated time [s]")
+    run.add_argument("--seed", type=int, default=0, help="seed for noise and randomness")
+    run.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",
+                     help="override a scenario setting (repeatable)")
+    run.add_argument("--json", action="store_true", help="print one JSON object")
+    run.add_argument("--plot", metavar="PNG", help="write a plot")
+    run.add_argument("--log", metavar="NPZ", help="write the signal log")
+    run.set_defaults(func=cmd_run)
+    bench = sub.add_parser("bench", help="timing and allocation benchmarks")
+    bench.add_argument("--quick", action="store_true", help="fewer calls, for a smoke test")
+    bench.add_argument("--json", action="store_true", help="print one JSON object")
+    bench.set_defaults(func=cmd_bench)
+    args = parser.parse_args(argv)
+    return args.func(args)
+
+
+if __name__ == "__main__":
+    sys.exit(main())
