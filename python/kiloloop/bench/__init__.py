@@ -80,8 +80,14 @@ def sil_benchmark(quick: bool) -> dict:
     run_loop(plant, tick, LoopSettings(duration=duration))
     loop_wall = time.perf_counter() - start
     tick_cost = loop_wall / ticks
+    # Tracking figures of both joint controllers on the same trajectory (full duration).
+    tracking = {}
+    for controller in ("computed_torque", "pd_gravity"):
+        r = arm_track.run(parse_settings(arm_track.DEFAULTS, {"controller": controller}))
+        tracking[controller] = {k: r.metrics[k] for k in ("max_joint_error_rad", "max_ee_error_m")}
     return {
         "scenario": "arm-track",
+        "tracking": tracking,
         "sim_seconds": duration,
         "ticks": ticks,
         "physics_dt": plant.timestep,
@@ -119,6 +125,15 @@ def _print_sil(sil: dict) -> None:
     print(f"  raw mj_step cost                   {sil['raw_mj_step_us']:8.1f} us")
     print(f"  SIL tick / raw mj_step             {sil['tick_over_mj_step']:8.2f}")
     print(f"  controller step via Python         {sil['python_controller_step_us']:8.2f} us")
+    print(f"  arm-track tracking ({arm_track_duration()} s):   max joint error    max EE error")
+    for controller, m in sil["tracking"].items():
+        print(f"    {controller:<30} {m['max_joint_error_rad']:10.3e} rad {m['max_ee_error_m'] * 1e3:9.4f} mm")
+
+
+def arm_track_duration() -> float:
+    from ..scenarios import arm_track
+
+    return arm_track.DURATION
 
 
 def run_benchmarks(quick: bool = False, as_json: bool = False) -> int:
