@@ -5,18 +5,6 @@
 namespace kiloloop::py_glue {
 namespace {
 
-// Vector fields appear in Python as numpy views into the C++ struct (writes go straight in, no
-// copy per tick); assigning a new array replaces the vector, any size (the step checks sizes).
-template <class Class>
-void vector_field(py::class_<Class>& cls, const char* name, Eigen::VectorXd Class::*member,
-                  const char* doc) {
-  cls.def_property(
-      name,
-      py::cpp_function([member](Class& self) -> Eigen::Ref<Eigen::VectorXd> { return self.*member; },
-                       py::return_value_policy::reference_internal),
-      [member](Class& self, const Eigen::VectorXd& v) { self.*member = v; }, doc);
-}
-
 template <class Config>
 void bind_joint_config(py::module_& m, const char* name) {
   py::class_<Config>(m, name)

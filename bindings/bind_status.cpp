@@ -8,6 +8,8 @@ void bind_status(py::module_& m) {
       .value("SATURATED", Status::kSaturated)
       .value("REFERENCE_CLAMPED", Status::kReferenceClamped)
       .value("ITERATION_LIMIT", Status::kIterationLimit)
+      .value("UNREACHABLE", Status::kUnreachable)
+      .value("ESTIMATOR_DEGRADED", Status::kEstimatorDegraded)
       .value("NON_FINITE_MEASUREMENT", Status::kNonFiniteMeasurement)
       .value("NON_FINITE_REFERENCE", Status::kNonFiniteReference)
       .value("BAD_SIZE", Status::kBadSize)
@@ -17,6 +19,7 @@ void bind_status(py::module_& m) {
       .value("MODEL_ERROR", Status::kModelError)
       .value("SOLVER_FAILED", Status::kSolverFailed)
       .value("INFEASIBLE", Status::kInfeasible)
+      .value("SAFE_STOP", Status::kSafeStop)
       .def_property_readonly("ok", [](Status s) { return ok(s); })
       .def_property_readonly("failed", [](Status s) { return failed(s); });
 }

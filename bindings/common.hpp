@@ -27,10 +27,24 @@ inline void raise_if_failed(Status s, const std::string& why) {
   if (failed(s)) throw py::value_error(why.empty() ? std::string(to_string(s)) : why);
 }
 
+// Vector members appear in Python as numpy views into the C++ struct (writes go straight in, no
+// copy per tick); assigning a new array replaces the vector (dynamic sizes: any size, so that
+// step() can report BAD_SIZE; fixed sizes: must match, ValueError otherwise).
+template <class Class, class Vector>
+void vector_field(py::class_<Class>& cls, const char* name, Vector Class::*member, const char* doc) {
+  cls.def_property(
+      name,
+      py::cpp_function([member](Class& self) -> Eigen::Ref<Vector> { return self.*member; },
+                       py::return_value_policy::reference_internal),
+      [member](Class& self, const Vector& v) { self.*member = v; }, doc);
+}
+
 void bind_status(py::module_& m);
 void bind_model(py::module_& m);
 void bind_dynamics(py::module_& m);
 void bind_trajectory(py::module_& m);
 void bind_control(py::module_& m);
+void bind_quadruped(py::module_& m);
+void bind_qp(py::module_& m);
 
 }  // namespace kiloloop::py_glue

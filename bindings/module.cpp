@@ -10,4 +10,6 @@ PYBIND11_MODULE(_core, m) {
   bind_dynamics(m);
   bind_trajectory(m);
   bind_control(m);
+  bind_quadruped(m);
+  bind_qp(m);
 }

@@ -8,6 +8,8 @@ const char* to_string(Status s) noexcept {
     case Status::kSaturated: return "saturated";
     case Status::kReferenceClamped: return "reference_clamped";
     case Status::kIterationLimit: return "iteration_limit";
+    case Status::kUnreachable: return "unreachable";
+    case Status::kEstimatorDegraded: return "estimator_degraded";
     case Status::kNonFiniteMeasurement: return "non_finite_measurement";
     case Status::kNonFiniteReference: return "non_finite_reference";
     case Status::kBadSize: return "bad_size";
@@ -17,6 +19,7 @@ const char* to_string(Status s) noexcept {
     case Status::kModelError: return "model_error";
     case Status::kSolverFailed: return "solver_failed";
     case Status::kInfeasible: return "infeasible";
+    case Status::kSafeStop: return "safe_stop";
   }
   return "unknown";
 }

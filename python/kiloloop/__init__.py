@@ -9,6 +9,7 @@ from pathlib import Path as _Path
 
 from ._core import *  # noqa: F401,F403
 from ._core import __version__  # noqa: F401
+from ._core import qp  # noqa: F401  (kl.qp.solve, kl.qp.DenseQpSolver)
 
 
 def models_dir() -> _Path:

@@ -11,6 +11,8 @@ enum class Status : int {
   kSaturated = 1,           // an output was clipped to its limit (effort, thrust, ...)
   kReferenceClamped = 2,    // the reference was outside the joint limits and was clamped
   kIterationLimit = 3,      // an iterative solver stopped at its cap with a usable iterate
+  kUnreachable = 4,         // an IK target is out of reach: the last valid solution is kept
+  kEstimatorDegraded = 5,   // the state estimate ran without a correction (no stance feet, ...)
   // Failures: the output is the safe fallback.
   kNonFiniteMeasurement = -1,  // NaN/Inf in a measured signal
   kNonFiniteReference = -2,    // NaN/Inf in a reference or command
@@ -21,6 +23,7 @@ enum class Status : int {
   kModelError = -7,            // the model cannot be used for this (e.g. not a serial chain)
   kSolverFailed = -8,          // a numeric solver failed (singular, diverged)
   kInfeasible = -9,            // a constrained problem has no solution
+  kSafeStop = -10,             // a safety limit tripped (e.g. trunk tilt): latched safe output
 };
 
 inline constexpr bool ok(Status s) noexcept { return static_cast<int>(s) >= 0; }

@@ -14,6 +14,11 @@ from ..sil.log import SignalLog
 # Scenario name -> module (one concept per file; the name is the CLI name).
 _MODULES = {
     "arm-track": "arm_track",
+    "quadruped-stand": "quadruped_stand",
+    "quadruped-slope": "quadruped_slope",
+    "quadruped-trot": "quadruped_trot",
+    "quadruped-push": "quadruped_push",
+    "quadruped-tilt-stop": "quadruped_tilt_stop",
 }
 
 

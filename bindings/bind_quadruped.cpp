@@ -1,0 +1,111 @@
+#include "common.hpp"
+#include "kiloloop/quadruped/quadruped_controller.hpp"
+
+namespace kiloloop::py_glue {
+
+void bind_quadruped(py::module_& m) {
+  py::class_<GaitConfig>(m, "GaitConfig")
+      .def(py::init<>())
+      .def_readwrite("period", &GaitConfig::period)
+      .def_readwrite("duty", &GaitConfig::duty);
+  py::class_<ContactConfig>(m, "ContactConfig")
+      .def(py::init<>())
+      .def_readwrite("force_on", &ContactConfig::force_on)
+      .def_readwrite("force_off", &ContactConfig::force_off)
+      .def_readwrite("early_touchdown", &ContactConfig::early_touchdown);
+  py::class_<EstimatorConfig>(m, "EstimatorConfig")
+      .def(py::init<>())
+      .def_readwrite("attitude_gain", &EstimatorConfig::attitude_gain)
+      .def_readwrite("accel_noise", &EstimatorConfig::accel_noise)
+      .def_readwrite("leg_velocity_noise", &EstimatorConfig::leg_velocity_noise)
+      .def_readwrite("foothold_noise", &EstimatorConfig::foothold_noise)
+      .def_readwrite("ground_filter", &EstimatorConfig::ground_filter);
+  py::class_<StanceForceConfig>(m, "StanceForceConfig")
+      .def(py::init<>())
+      .def_readwrite("wrench_weight", &StanceForceConfig::wrench_weight)
+      .def_readwrite("regularization", &StanceForceConfig::regularization)
+      .def_readwrite("smoothing", &StanceForceConfig::smoothing)
+      .def_readwrite("mu", &StanceForceConfig::mu)
+      .def_readwrite("fz_min", &StanceForceConfig::fz_min)
+      .def_readwrite("fz_max", &StanceForceConfig::fz_max)
+      .def_readwrite("max_iterations", &StanceForceConfig::max_iterations);
+
+  py::class_<QuadrupedConfig>(m, "QuadrupedConfig")
+      .def(py::init<>())
+      .def_readwrite("trunk_link", &QuadrupedConfig::trunk_link)
+      .def_readwrite("feet", &QuadrupedConfig::feet)
+      .def_readwrite("dt", &QuadrupedConfig::dt)
+      .def_readwrite("foot_radius", &QuadrupedConfig::foot_radius)
+      .def_readwrite("body_height", &QuadrupedConfig::body_height)
+      .def_readwrite("gait", &QuadrupedConfig::gait)
+      .def_readwrite("contact", &QuadrupedConfig::contact)
+      .def_readwrite("estimator", &QuadrupedConfig::estimator)
+      .def_readwrite("force", &QuadrupedConfig::force)
+      .def_readwrite("kp_position", &QuadrupedConfig::kp_position)
+      .def_readwrite("kd_velocity", &QuadrupedConfig::kd_velocity)
+      .def_readwrite("kp_orientation", &QuadrupedConfig::kp_orientation)
+      .def_readwrite("kd_angular", &QuadrupedConfig::kd_angular)
+      .def_readwrite("swing_height", &QuadrupedConfig::swing_height)
+      .def_readwrite("raibert_gain", &QuadrupedConfig::raibert_gain)
+      .def_readwrite("touchdown_depth", &QuadrupedConfig::touchdown_depth)
+      .def_readwrite("swing_kp", &QuadrupedConfig::swing_kp)
+      .def_readwrite("swing_kd", &QuadrupedConfig::swing_kd)
+      .def_readwrite("max_acceleration", &QuadrupedConfig::max_acceleration)
+      .def_readwrite("max_tilt", &QuadrupedConfig::max_tilt)
+      .def_readwrite("stand_pose", &QuadrupedConfig::stand_pose)
+      .def_readwrite("crouch", &QuadrupedConfig::crouch)
+      .def_readwrite("safe_kp", &QuadrupedConfig::safe_kp)
+      .def_readwrite("safe_kd", &QuadrupedConfig::safe_kd)
+      .def_readwrite("max_measurement_age", &QuadrupedConfig::max_measurement_age)
+      .def_readwrite("mass", &QuadrupedConfig::mass)
+      .def_readwrite("inertia_diag", &QuadrupedConfig::inertia_diag);
+
+  py::class_<QuadrupedInput> in(m, "QuadrupedInput");
+  in.def(py::init<>())
+      .def_readwrite("t", &QuadrupedInput::t)
+      .def_readwrite("stamp", &QuadrupedInput::stamp)
+      .def_readwrite("gait", &QuadrupedInput::gait, "0 stand, 1 trot")
+      .def_readwrite("use_ground_truth", &QuadrupedInput::use_ground_truth);
+  vector_field(in, "q", &QuadrupedInput::q, "(12) [rad] encoders, controller joint order");
+  vector_field(in, "qd", &QuadrupedInput::qd, "(12) [rad/s]");
+  vector_field(in, "gyro", &QuadrupedInput::gyro, "(3) [rad/s] body");
+  vector_field(in, "accel", &QuadrupedInput::accel, "(3) [m/s^2] specific force, body");
+  vector_field(in, "quat", &QuadrupedInput::quat, "(4) IMU orientation w, x, y, z");
+  vector_field(in, "velocity_command", &QuadrupedInput::velocity_command, "(3) vx, vy [m/s], yaw rate [rad/s]");
+  vector_field(in, "true_position", &QuadrupedInput::true_position, "(3) [m] world (debug)");
+  vector_field(in, "true_velocity", &QuadrupedInput::true_velocity, "(3) [m/s] world (debug)");
+  vector_field(in, "true_quat", &QuadrupedInput::true_quat, "(4) w, x, y, z (debug)");
+
+  py::class_<QuadrupedOutput> out(m, "QuadrupedOutput");
+  out.def(py::init<>())
+      .def_readwrite("status", &QuadrupedOutput::status)
+      .def_readonly("tilt", &QuadrupedOutput::tilt)
+      .def_readonly("safe_stop", &QuadrupedOutput::safe_stop)
+      .def_readonly("qp_iterations", &QuadrupedOutput::qp_iterations);
+  vector_field(out, "tau", &QuadrupedOutput::tau, "(12) [N m]");
+  vector_field(out, "foot_force", &QuadrupedOutput::foot_force, "(12) [N] world, per foot");
+  vector_field(out, "contact", &QuadrupedOutput::contact, "(4) 1 = contact detected");
+  vector_field(out, "scheduled", &QuadrupedOutput::scheduled, "(4) 1 = stance scheduled");
+  vector_field(out, "position", &QuadrupedOutput::position, "(3) [m] estimated, world");
+  vector_field(out, "velocity", &QuadrupedOutput::velocity, "(3) [m/s] estimated, world");
+  vector_field(out, "quat", &QuadrupedOutput::quat, "(4) estimated w, x, y, z");
+  vector_field(out, "ground_normal", &QuadrupedOutput::ground_normal, "(3)");
+  vector_field(out, "wrench", &QuadrupedOutput::wrench, "(6) desired [F; tau], world");
+
+  py::class_<QuadrupedController>(m, "QuadrupedController", "1 kHz stand/trot controller, 12 joints")
+      .def(py::init([](std::shared_ptr<RobotModel> model, const std::optional<QuadrupedConfig>& config) {
+             QuadrupedController c;
+             std::string why;
+             raise_if_failed(QuadrupedController::configure(config.value_or(QuadrupedConfig{}), model, &c, &why),
+                             why);
+             return c;
+           }),
+           py::arg("model"), py::arg("config") = py::none())
+      .def("step", &QuadrupedController::step, py::arg("input"), py::arg("output"))
+      .def_property_readonly("joint_names", &QuadrupedController::joint_names)
+      .def_property_readonly("effort_limit", &QuadrupedController::effort_limit)
+      .def_property_readonly("mass", &QuadrupedController::mass)
+      .def("reset_safe_stop", &QuadrupedController::reset_safe_stop);
+}
+
+}  // namespace kiloloop::py_glue

@@ -1,0 +1,54 @@
+#pragma once
+// Stance-force distribution: the ground reaction forces f_i (world frame, one 3-vector per foot)
+// that best produce a desired trunk wrench w = [F; tau] about the centre of mass:
+//   minimize   |A f - w|^2_S + alpha |f|^2 + beta |f - f_prev|^2
+//   subject to friction pyramid |f.t1|, |f.t2| <= mu f.n   (n: ground normal, t1, t2: tangents)
+//              fz_min <= f.n <= fz_max                      (stance feet)
+//              f_i = 0                                      (feet not in stance)
+// with A = [I ... I; [r_1]x ... [r_4]x], r_i the foot position relative to the CoM. Solved with
+// kiloloop's dense QP (12 variables); allocation-free after configure.
+#include <array>
+#include <string>
+
+#include <Eigen/Core>
+
+#include "kiloloop/qp/dense_qp.hpp"
+#include "kiloloop/status.hpp"
+
+namespace kiloloop {
+
+struct StanceForceConfig {
+  Eigen::Matrix<double, 6, 1> wrench_weight =
+      (Eigen::Matrix<double, 6, 1>() << 1.0, 1.0, 1.0, 10.0, 10.0, 10.0).finished();  // S diagonal
+  double regularization = 1e-4;  // alpha [1/N^2 relative to S]
+  double smoothing = 1e-3;       // beta: against change from the previous tick
+  double mu = 0.8;               // friction coefficient used by the pyramid
+  double fz_min = 5.0;           // [N] minimum normal force of a stance foot
+  double fz_max = 300.0;         // [N]
+  int max_iterations = 100;
+};
+
+class StanceForceQp {
+ public:
+  static constexpr int kLegs = 4;
+  static Status configure(const StanceForceConfig& config, StanceForceQp* out, std::string* why);
+  // feet: positions relative to the CoM (world axes); stance: which feet may push.
+  // On success writes f (12) and returns kOk; on QP failure keeps the previous forces (also in f)
+  // and returns kSolverFailed.
+  Status solve(const Eigen::Matrix<double, 6, 1>& wrench, const std::array<Eigen::Vector3d, kLegs>& feet,
+               const std::array<bool, kLegs>& stance, const Eigen::Vector3d& normal,
+               Eigen::Matrix<double, 12, 1>& f) noexcept;
+  const qp::QpResult& last_result() const { return result_; }
+
+ private:
+  StanceForceConfig cfg_;
+  qp::DenseQpSolver solver_;
+  qp::QpResult result_;
+  Eigen::Matrix<double, 6, 12> A_;
+  Eigen::Matrix<double, 12, 12> H_;
+  Eigen::Matrix<double, 12, 1> g_, f_prev_, x_;
+  Eigen::MatrixXd A_eq_, C_;  // preallocated (12 x 12), (24 x 12); leading rows used
+  Eigen::VectorXd b_eq_, d_, none_;
+};
+
+}  // namespace kiloloop

@@ -1,0 +1,126 @@
+// QuadrupedController: configure from the URDF, the step contract (no allocation, statuses,
+// finite torques) and the safety reflexes. Closed-loop behaviour is tested in SIL (tests/).
+#include "kiloloop/quadruped/quadruped_controller.hpp"
+
+#include <cmath>
+
+#include <gtest/gtest.h>
+
+#include "alloc_counter.hpp"
+#include "kiloloop/urdf/urdf_loader.hpp"
+
+namespace kiloloop {
+namespace {
+
+RobotModelPtr quadruped_model() {
+  auto model = std::make_shared<RobotModel>();
+  std::string why;
+  EXPECT_EQ(model_from_urdf_file(std::string(KILOLOOP_MODELS_DIR) + "/quadruped/quadruped.urdf", "",
+                                 "", model.get(), &why),
+            Status::kOk)
+      << why;
+  return model;
+}
+
+QuadrupedInput standing_input(const QuadrupedController& c) {
+  QuadrupedInput in;
+  for (int i = 0; i < 4; ++i) in.q.segment<3>(3 * i) = Eigen::Vector3d(0.0, 0.9, -1.8);
+  (void)c;
+  return in;
+}
+
+QuadrupedController make_controller() {
+  QuadrupedController c;
+  std::string why;
+  QuadrupedConfig config;
+  config.body_height = 0.3308;  // the standing pose below: no height error in the first tick
+  EXPECT_EQ(QuadrupedController::configure(config, quadruped_model(), &c, &why), Status::kOk)
+      << why;
+  return c;
+}
+
+TEST(QuadrupedController, ConfiguresFromTheUrdf) {
+  QuadrupedController c = make_controller();
+  EXPECT_EQ(c.joint_names()[0], "FL_hip_abd");
+  EXPECT_EQ(c.joint_names()[11], "RR_knee");
+  EXPECT_NEAR(c.mass(), 17.6, 1e-9);
+  EXPECT_DOUBLE_EQ(c.effort_limit()[2], 45.0);
+  QuadrupedConfig bad;
+  bad.feet[0] = "nose";
+  std::string why;
+  EXPECT_FALSE(ok(QuadrupedController::configure(bad, quadruped_model(), &c, &why)));
+  EXPECT_NE(why.find("nose"), std::string::npos);
+}
+
+TEST(QuadrupedController, StandingStepSupportsTheWeight) {
+  QuadrupedController c = make_controller();
+  QuadrupedInput in = standing_input(c);
+  QuadrupedOutput out;
+  ASSERT_TRUE(ok(c.step(in, out))) << to_string(out.status);
+  double fz = 0;
+  for (int i = 0; i < 4; ++i) fz += out.foot_force[3 * i + 2];
+  EXPECT_GT(fz, 0.8 * 17.6 * 9.81);
+  EXPECT_TRUE(out.tau.allFinite());
+}
+
+TEST(QuadrupedController, TrotStepsAreAllocationFree) {
+  QuadrupedController c = make_controller();
+  QuadrupedInput in = standing_input(c);
+  in.gait = 1;
+  in.velocity_command << 0.5, 0.0, 0.0;
+  QuadrupedOutput out;
+  c.step(in, out);
+  testing::AllocationScope scope;
+  for (int k = 1; k <= 10000; ++k) {
+    in.t = in.stamp = k * 0.001;
+    in.q[1] = 0.9 + 0.05 * std::sin(0.01 * k);  // keep the legs moving a little
+    if (k % 500 == 0) in.gyro[0] = std::numeric_limits<double>::quiet_NaN();
+    else in.gyro[0] = 0.0;
+    c.step(in, out);
+  }
+  EXPECT_EQ(scope.count(), 0u);
+}
+
+TEST(QuadrupedController, NonFiniteSensorsHoldTheLastCommand) {
+  QuadrupedController c = make_controller();
+  QuadrupedInput in = standing_input(c);
+  QuadrupedOutput out;
+  c.step(in, out);
+  const Vector12d last = out.tau;
+  in.t = in.stamp = 0.001;
+  in.accel[2] = std::numeric_limits<double>::infinity();
+  EXPECT_EQ(c.step(in, out), Status::kNonFiniteMeasurement);
+  EXPECT_EQ(out.tau, last);
+  in.accel[2] = 9.81;
+  in.t = 1.0;  // stamp 0.001: a stale measurement
+  EXPECT_EQ(c.step(in, out), Status::kStaleMeasurement);
+  EXPECT_TRUE(out.tau.allFinite());
+}
+
+TEST(QuadrupedController, TiltBeyondTheLimitTripsTheSafeStopInTheSameTick) {
+  QuadrupedController c = make_controller();
+  QuadrupedInput in = standing_input(c);
+  QuadrupedOutput out;
+  c.step(in, out);
+  // Roll 20 deg, reported by the IMU and by the gyro integration alike.
+  const double a = 20.0 * M_PI / 180.0;
+  QuadrupedController fresh = make_controller();
+  in.quat << std::cos(a / 2), std::sin(a / 2), 0.0, 0.0;
+  EXPECT_EQ(fresh.step(in, out), Status::kSafeStop);
+  EXPECT_TRUE(out.safe_stop);
+  EXPECT_TRUE(out.tau.allFinite());
+  // Latched: level again (the attitude estimate follows the IMU: 20 -> 4 deg in 0.3 s), still stopped
+  // until reset.
+  in.quat << 1, 0, 0, 0;
+  for (int k = 1; k <= 300; ++k) {
+    in.t = in.stamp = k * 0.001;
+    EXPECT_EQ(fresh.step(in, out), Status::kSafeStop);
+  }
+  EXPECT_LT(out.tilt, QuadrupedConfig{}.max_tilt);
+  fresh.reset_safe_stop();
+  in.t = in.stamp = 0.301;
+  EXPECT_NE(fresh.step(in, out), Status::kSafeStop);
+}
+
+}  // namespace
+}  // namespace kiloloop

@@ -1,0 +1,91 @@
+#include "kiloloop/quadruped/stance_force.hpp"
+
+#include <cmath>
+
+#include <Eigen/Geometry>
+
+namespace kiloloop {
+namespace {
+
+Eigen::Matrix3d skew(const Eigen::Vector3d& v) {
+  Eigen::Matrix3d S;
+  S << 0, -v.z(), v.y(), v.z(), 0, -v.x(), -v.y(), v.x(), 0;
+  return S;
+}
+
+}  // namespace
+
+Status StanceForceQp::configure(const StanceForceConfig& config, StanceForceQp* out, std::string* why) {
+  if (!(config.mu > 0) || !(config.fz_min >= 0) || !(config.fz_max > config.fz_min) ||
+      !(config.regularization >= 0) || !(config.smoothing >= 0) ||
+      (config.wrench_weight.array() < 0).any()) {
+    if (why) *why = "stance force: need mu > 0, 0 <= fz_min < fz_max, non-negative weights";
+    return Status::kInvalidConfig;
+  }
+  qp::QpSettings settings;
+  settings.max_iterations = config.max_iterations;
+  StanceForceQp s;
+  const Status st = qp::DenseQpSolver::configure(12, 12, 6 * kLegs, settings, &s.solver_, why);
+  if (failed(st)) return st;
+  s.cfg_ = config;
+  s.A_.setZero();
+  for (int i = 0; i < kLegs; ++i) s.A_.block<3, 3>(0, 3 * i).setIdentity();
+  s.f_prev_.setZero();
+  s.A_eq_ = Eigen::MatrixXd::Zero(12, 12);
+  s.C_ = Eigen::MatrixXd::Zero(6 * kLegs, 12);
+  s.b_eq_ = Eigen::VectorXd::Zero(12);
+  s.d_ = Eigen::VectorXd::Zero(6 * kLegs);
+  s.none_ = Eigen::VectorXd::Zero(0);
+  *out = std::move(s);
+  return Status::kOk;
+}
+
+Status StanceForceQp::solve(const Eigen::Matrix<double, 6, 1>& wrench,
+                            const std::array<Eigen::Vector3d, kLegs>& feet,
+                            const std::array<bool, kLegs>& stance, const Eigen::Vector3d& normal,
+                            Eigen::Matrix<double, 12, 1>& f) noexcept {
+  for (int i = 0; i < kLegs; ++i) A_.block<3, 3>(3, 3 * i) = skew(feet[i]);
+  const auto S = cfg_.wrench_weight.asDiagonal();
+  H_.noalias() = A_.transpose() * S * A_;
+  H_.diagonal().array() += cfg_.regularization + cfg_.smoothing;
+  g_.noalias() = -(A_.transpose() * (S * wrench));
+  g_ -= cfg_.smoothing * f_prev_;
+
+  // Tangents of the ground plane (any orthonormal pair perpendicular to n).
+  const Eigen::Vector3d n = normal.normalized();
+  const Eigen::Vector3d helper = std::abs(n.x()) < 0.9 ? Eigen::Vector3d::UnitX() : Eigen::Vector3d::UnitY();
+  const Eigen::Vector3d t1 = (helper - helper.dot(n) * n).normalized(), t2 = n.cross(t1);
+  int n_eq = 0, n_in = 0;
+  A_eq_.setZero();
+  C_.setZero();
+  for (int i = 0; i < kLegs; ++i) {
+    if (!stance[i]) {
+      for (int k = 0; k < 3; ++k) {
+        A_eq_(n_eq, 3 * i + k) = 1.0;
+        b_eq_[n_eq++] = 0.0;
+      }
+      continue;
+    }
+    const Eigen::Vector3d rows[4] = {t1 - cfg_.mu * n, -t1 - cfg_.mu * n, t2 - cfg_.mu * n,
+                                     -t2 - cfg_.mu * n};
+    for (const auto& row : rows) {
+      C_.block<1, 3>(n_in, 3 * i) = row.transpose();
+      d_[n_in++] = 0.0;
+    }
+    C_.block<1, 3>(n_in, 3 * i) = -n.transpose();
+    d_[n_in++] = -cfg_.fz_min;
+    C_.block<1, 3>(n_in, 3 * i) = n.transpose();
+    d_[n_in++] = cfg_.fz_max;
+  }
+  result_ = solver_.solve(H_, g_, A_eq_.topRows(n_eq), b_eq_.head(n_eq), C_.topRows(n_in),
+                          d_.head(n_in), none_, none_, x_);
+  if (result_.status != qp::QpStatus::kOptimal || !x_.allFinite()) {
+    f = f_prev_;
+    return Status::kSolverFailed;
+  }
+  f = x_;
+  f_prev_ = x_;
+  return Status::kOk;
+}
+
+}  // namespace kiloloop

@@ -1,0 +1,116 @@
+#include "kiloloop/quadruped/state_estimator.hpp"
+
+#include <Eigen/Cholesky>
+#include <Eigen/LU>
+
+namespace kiloloop {
+namespace {
+const Eigen::Vector3d kGravity(0.0, 0.0, -9.81);
+}  // namespace
+
+void StateEstimator::configure(const EstimatorConfig& config) {
+  cfg_ = config;
+  initialised_ = false;
+}
+
+void StateEstimator::reset(const Eigen::Quaterniond& q_imu,
+                           const std::array<LegMeasurement, kLegs>& legs, double foot_radius) {
+  foot_radius_ = foot_radius;
+  q_ = q_imu.normalized();
+  const Eigen::Matrix3d R = q_.toRotationMatrix();
+  // Put the trunk above the origin of x, y and let the lowest feet define the ground plane.
+  double min_z = 0.0;
+  for (int i = 0; i < kLegs; ++i) min_z = std::min(min_z, (R * legs[i].r).z());
+  x_.setZero();
+  x_[2] = -min_z + foot_radius;
+  for (int i = 0; i < kLegs; ++i) footholds_[i] = x_.head<3>() + R * legs[i].r;
+  P_ = Eigen::Matrix<double, 6, 6>::Identity() * 1e-4;
+  normal_ = Eigen::Vector3d::UnitZ();
+  initialised_ = false;  // the first fit takes the plane as it is, unfiltered
+  fit_ground();
+  initialised_ = true;
+}
+
+void StateEstimator::set_truth(const Eigen::Vector3d& p, const Eigen::Vector3d& v,
+                               const Eigen::Quaterniond& q) noexcept {
+  x_.head<3>() = p;
+  x_.tail<3>() = v;
+  q_ = q;
+}
+
+Status StateEstimator::update(const Eigen::Vector3d& gyro, const Eigen::Vector3d& accel,
+                              const Eigen::Quaterniond& q_imu,
+                              const std::array<LegMeasurement, kLegs>& legs) noexcept {
+  const double dt = cfg_.dt;
+  // Orientation: integrate the gyro, then pull toward the IMU's orientation output.
+  omega_ = gyro;
+  const Eigen::Vector3d half = 0.5 * dt * gyro;
+  const Eigen::Quaterniond dq(1.0, half.x(), half.y(), half.z());
+  q_ = (q_ * dq).normalized();
+  Eigen::Quaterniond target = q_imu;
+  if (q_.dot(target) < 0.0) target.coeffs() = -target.coeffs();  // same hemisphere
+  q_ = q_.slerp(cfg_.attitude_gain, target).normalized();
+  const Eigen::Matrix3d R = q_.toRotationMatrix();
+
+  // Predict with the accelerometer's specific force.
+  const Eigen::Vector3d a = R * accel + kGravity;
+  x_.head<3>() += dt * x_.tail<3>() + 0.5 * dt * dt * a;
+  x_.tail<3>() += dt * a;
+  Eigen::Matrix<double, 6, 6> F = Eigen::Matrix<double, 6, 6>::Identity();
+  F.topRightCorner<3, 3>() = Eigen::Matrix3d::Identity() * dt;
+  Eigen::Matrix<double, 6, 6> Q = Eigen::Matrix<double, 6, 6>::Zero();
+  const double qa = cfg_.accel_noise * cfg_.accel_noise;
+  Q.topLeftCorner<3, 3>().diagonal().setConstant(0.25 * dt * dt * dt * dt * qa);
+  Q.bottomRightCorner<3, 3>().diagonal().setConstant(dt * dt * qa);
+  P_ = F * P_ * F.transpose() + Q;
+
+  // Correct with the legs in contact (averaged: one 6-D measurement with H = I).
+  int n = 0;
+  Eigen::Vector3d p_sum = Eigen::Vector3d::Zero(), v_sum = Eigen::Vector3d::Zero();
+  for (int i = 0; i < kLegs; ++i) {
+    const LegMeasurement& leg = legs[i];
+    if (leg.touched_down) {
+      // Latch the foothold where the current estimate puts the foot.
+      footholds_[i] = x_.head<3>() + R * leg.r;
+      fit_ground();
+    }
+    if (!leg.contact) continue;
+    p_sum += footholds_[i] - R * leg.r;
+    v_sum += -R * (leg.v_rel + omega_.cross(leg.r));
+    ++n;
+  }
+  if (n == 0) return Status::kEstimatorDegraded;
+  Eigen::Matrix<double, 6, 1> z;
+  z << p_sum / n, v_sum / n;
+  Eigen::Matrix<double, 6, 6> Rm = Eigen::Matrix<double, 6, 6>::Zero();
+  Rm.topLeftCorner<3, 3>().diagonal().setConstant(cfg_.foothold_noise * cfg_.foothold_noise / n);
+  Rm.bottomRightCorner<3, 3>().diagonal().setConstant(cfg_.leg_velocity_noise *
+                                                      cfg_.leg_velocity_noise / n);
+  const Eigen::Matrix<double, 6, 6> S = P_ + Rm;
+  const Eigen::Matrix<double, 6, 6> K = P_ * S.inverse();
+  x_ += K * (z - x_);
+  P_ = (Eigen::Matrix<double, 6, 6>::Identity() - K) * P_;
+  P_ = 0.5 * (P_ + P_.transpose());
+  return Status::kOk;
+}
+
+void StateEstimator::fit_ground() noexcept {
+  // Least squares z = a + b x + c y through the four footholds (foot centres), then shifted down
+  // by the foot radius along the normal to the ground surface.
+  Eigen::Matrix3d AtA = Eigen::Matrix3d::Zero();
+  Eigen::Vector3d Atz = Eigen::Vector3d::Zero();
+  for (const auto& f : footholds_) {
+    const Eigen::Vector3d row(1.0, f.x(), f.y());
+    AtA += row * row.transpose();
+    Atz += row * f.z();
+  }
+  const Eigen::Vector3d sol = AtA.ldlt().solve(Atz);
+  if (!sol.allFinite()) return;
+  Eigen::Vector3d n(-sol[1], -sol[2], 1.0);
+  n.normalize();
+  const double w = initialised_ ? cfg_.ground_filter : 1.0;
+  normal_ = ((1.0 - w) * normal_ + w * n).normalized();
+  plane_ = (1.0 - w) * plane_ + w * Eigen::Vector3d(sol[0] - foot_radius_ / n.z(), sol[1], sol[2]);
+}
+
+}  // namespace kiloloop

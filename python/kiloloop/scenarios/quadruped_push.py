@@ -1,0 +1,59 @@
+"""quadruped-push: while trotting, a lateral push (3 N s by default, 0.1 s long) at t = 2 s.
+The roll peak must stay small and the roll return close to level quickly."""
+from __future__ import annotations
+
+import numpy as np
+
+from ..sil.quadruped_rig import (COMMON_DEFAULTS, QUADRUPED_PLOT, add_derived, fallen,
+                                 rig_from_settings)
+from . import ScenarioResult, evaluate
+from .quadruped_trot import trot_command
+
+NAME = "quadruped-push"
+DESCRIPTION = "lateral push while trotting: roll peak and recovery within 0.8 s"
+DURATION = 5.0
+PUSH_TIME = 2.0       # [s]
+PUSH_DURATION = 0.1   # [s]
+RECOVERY = 0.8        # [s] after the push ends
+DEFAULTS = dict(COMMON_DEFAULTS, impulse=3.0, speed=0.5)
+CRITERIA = {"roll_peak_deg": ("<", 5.0), "roll_after_recovery_deg": ("<", 1.0), "fell": ("<", 0.5)}
+
+
+def run(settings: dict, seed: int = 0, duration: float | None = None) -> ScenarioResult:
+    rig = rig_from_settings(settings, seed)
+    force = np.array([0.0, settings["impulse"] / PUSH_DURATION, 0.0])  # +y: push to the left
+    events = [(PUSH_TIME, lambda plant: plant.apply_push(force, PUSH_DURATION))]
+    log = rig.run(DURATION if duration is None else duration, trot_command(settings["speed"]),
+                  events=events)
+    add_derived(log)
+    t, roll = log["t"], log["roll_pitch_deg"][:, 0]
+    after = t >= PUSH_TIME
+    settled = t >= PUSH_TIME + PUSH_DURATION + RECOVERY
+    before = (t >= PUSH_TIME - 1.0) & (t < PUSH_TIME)
+    metrics = {
+        "roll_peak_deg": float(np.max(np.abs(roll[after]))),
+        # Largest |roll| from the end of the recovery window to the end of the run.
+        "roll_after_recovery_deg": float(np.max(np.abs(roll[settled]))) if settled.any() else float("nan"),
+        "roll_before_push_deg": float(np.max(np.abs(roll[before]))),
+        "lateral_velocity_peak": float(np.max(np.abs(log["base_vel"][after, 1]))),
+        "fell": float(fallen(log)),
+        "impulse": settings["impulse"],
+    }
+    return ScenarioResult(NAME, metrics, evaluate(CRITERIA, metrics), log, dict(settings))
+
+
+def max_recovered_impulse(impulses=(3, 6, 9, 12, 15, 18), seed: int = 0) -> dict:
+    """The largest push (N s) after which the robot does not fall and its criteria pass."""
+    from . import parse_settings
+
+    best, table = 0.0, {}
+    for impulse in impulses:
+        r = run(parse_settings(DEFAULTS, {"impulse": float(impulse)}), seed=seed)
+        table[impulse] = {"passed": r.passed, **{k: r.metrics[k] for k in CRITERIA}}
+        if r.passed:
+            best = max(best, float(impulse))
+    return {"max_recovered_impulse": best, "runs": table}
+
+
+def plot_signals():
+    return QUADRUPED_PLOT

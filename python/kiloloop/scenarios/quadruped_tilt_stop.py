@@ -1,0 +1,45 @@
+"""quadruped-tilt-stop: a lateral shove large enough to tip the standing robot over. The safe
+stop (damped joints, crouch) must engage within one tick of the trunk crossing 15 deg of tilt."""
+from __future__ import annotations
+
+import numpy as np
+
+from ..sil.quadruped_rig import (COMMON_DEFAULTS, QUADRUPED_PLOT, add_derived, rig_from_settings)
+from . import ScenarioResult, evaluate
+
+NAME = "quadruped-tilt-stop"
+DESCRIPTION = "a shove tips the robot: safe stop within one tick of 15 deg tilt"
+DURATION = 2.0
+PUSH_TIME = 0.5
+DEFAULTS = dict(COMMON_DEFAULTS, impulse=40.0, push_duration=0.1, push_height=0.0)
+CRITERIA = {"ticks_late": ("<=", 1.0), "tilted": (">", 0.5)}
+
+
+def run(settings: dict, seed: int = 0, duration: float | None = None) -> ScenarioResult:
+    rig = rig_from_settings(settings, seed)
+    force = np.array([0.0, settings["impulse"] / settings["push_duration"], 0.0])
+    events = [(PUSH_TIME, lambda plant: plant.apply_push(force, settings["push_duration"]))]
+    log = rig.run(DURATION if duration is None else duration, lambda t: (0, np.zeros(3)),
+                  events=events)
+    add_derived(log)
+    rp = np.radians(log["roll_pitch_deg"])
+    tilt = np.degrees(np.arccos(np.clip(np.cos(rp[:, 0]) * np.cos(rp[:, 1]), -1, 1)))
+    crossed = np.flatnonzero(tilt > 15.0)
+    stopped = np.flatnonzero(log["safe_stop"] > 0.5)
+    # The tick whose sensor reading first shows > 15 deg must already carry the safe output:
+    # ticks_late = stop tick - crossing tick (<= 0 when the estimate leads, 1 allowed).
+    first_cross = int(crossed[0]) if crossed.size else -1
+    first_stop = int(stopped[0]) if stopped.size else -1
+    metrics = {
+        "tilted": float(crossed.size > 0),
+        "crossing_tick": first_cross,
+        "safe_stop_tick": first_stop,
+        "ticks_late": float(first_stop - first_cross) if crossed.size and stopped.size else float("inf"),
+        "safe_stop_latched": float(stopped.size > 0 and bool(np.all(log["safe_stop"][first_stop:] > 0.5))),
+        "max_tilt_deg": float(tilt.max()),
+    }
+    return ScenarioResult(NAME, metrics, evaluate(CRITERIA, metrics), log, dict(settings))
+
+
+def plot_signals():
+    return QUADRUPED_PLOT

@@ -1,0 +1,407 @@
+"""Floating-base MuJoCo plant (quadrupeds) built at run time from a URDF plus a TOML overlay.
+
+The URDF is the single source of truth for kinematics, inertia and limits; the overlay
+(models/<robot>/sim.toml) adds what only the simulator needs: a free joint on the root link, a
+floor (optionally sloped), contact friction, torque motors, joint encoders, an IMU and the foot
+bookkeeping. Built the same way as the fixed-base MujocoPlant (sil/plant.py). All arrays are
+numpy, SI units; joints in URDF order; quaternions (w, x, y, z).
+
+Timing, as in MujocoPlant: step() runs mj_step2 then mj_step1, so positions, velocities, the gyro,
+the orientation and the encoders describe the state after the last step. The accelerometer and the
+foot contact forces are acceleration-stage quantities: they describe the last step's interval (the
+forces that produced the current velocity), which after reset() is the interval about to start.
+"""
+from __future__ import annotations
+
+import tomllib
+from pathlib import Path
+
+import mujoco
+import numpy as np
+
+from .plant import _INTEGRATORS, _per_joint, _urdf_joints
+
+_FEET = ("FL_foot", "FR_foot", "RL_foot", "RR_foot")
+_DEFAULTS = {
+    "physics": {"timestep": 0.001, "integrator": "implicitfast", "gravity": [0.0, 0.0, -9.81],
+                "cone": "elliptic", "impratio": 100.0, "noslip_iterations": 5},
+    "floor": {"enabled": True, "slope_deg": 0.0, "friction": 0.8},
+    "joints": {"damping": 0.0, "frictionloss": 0.0, "armature": 0.0, "q0": None},
+    # pos0 None: computed so that the lowest foot just touches flat ground at q0 (see _stand_pos).
+    "base": {"pos0": None, "quat0": [1.0, 0.0, 0.0, 0.0]},
+    "actuators": {"type": "motor"},
+    "imu": {"body": None, "site": "imu", "pos": [0.0, 0.0, 0.0]},
+    "feet": {"bodies": list(_FEET)},
+}
+_CONES = {"pyramidal": mujoco.mjtCone.mjCONE_PYRAMIDAL,
+          "elliptic": mujoco.mjtCone.mjCONE_ELLIPTIC}
+_FREE_JOINT = "floating_base"
+_FLOOR = "floor"
+# MuJoCo's default torsional and rolling friction; only the sliding coefficient is configured.
+_SPIN_ROLL = (0.005, 0.0001)
+
+
+def _load_overlay(overlay) -> dict:
+    if overlay is None:
+        user = {}
+    elif isinstance(overlay, dict):
+        user = overlay
+    else:
+        with open(overlay, "rb") as f:
+            user = tomllib.load(f)
+    merged = {k: dict(v) for k, v in _DEFAULTS.items()}
+    for section, values in user.items():
+        if section not in merged:
+            raise ValueError(f"overlay: unknown section [{section}]")
+        merged[section].update(values)
+    return merged
+
+
+def _fixed(x, shape: tuple, name: str) -> np.ndarray:
+    arr = np.asarray(x, dtype=float)
+    if arr.shape != shape:
+        raise ValueError(f"{name}: expected shape {shape}, got {arr.shape}")
+    if not np.all(np.isfinite(arr)):
+        raise ValueError(f"{name}: non-finite value")
+    return arr
+
+
+def _unit_quat(x, name: str) -> np.ndarray:
+    q = _fixed(x, (4,), name)
+    norm = np.linalg.norm(q)
+    if norm < 1e-9:
+        raise ValueError(f"{name}: zero quaternion")
+    return q / norm
+
+
+def _quat_mul(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    out = np.zeros(4)
+    mujoco.mju_mulQuat(out, a, b)
+    return out
+
+
+class FloatingBasePlant:
+    """A torque-controlled MuJoCo model of a floating-base (legged) URDF robot on a floor."""
+
+    def __init__(self, urdf_path, overlay=None, *, timestep=None, slope_deg=None, floor=None,
+                 feet=None):
+        """overlay: path to a sim.toml, a dict of its sections, or None for the defaults.
+
+        timestep [s], slope_deg [deg] (ground rising along +x), floor (bool) and feet (link names)
+        override the overlay; feet defaults to the overlay's [feet] bodies (FL, FR, RL, RR).
+        """
+        urdf_path = Path(urdf_path)
+        cfg = _load_overlay(overlay)
+        phys, fcfg, jcfg = cfg["physics"], cfg["floor"], cfg["joints"]
+        if timestep is not None:
+            phys["timestep"] = timestep
+        if slope_deg is not None:
+            fcfg["slope_deg"] = slope_deg
+        if floor is not None:
+            fcfg["enabled"] = floor
+        self.feet = tuple(cfg["feet"]["bodies"] if feet is None else feet)
+        self.slope = np.deg2rad(float(fcfg["slope_deg"]))
+        if not np.isfinite(self.slope) or abs(self.slope) >= np.pi / 2:
+            raise ValueError(f"slope_deg: expected |slope| < 90, got {fcfg['slope_deg']!r}")
+        friction = float(fcfg["friction"])
+        if not np.isfinite(friction) or friction < 0:
+            raise ValueError(f"floor.friction: expected a non-negative number, got {friction!r}")
+
+        self.joint_names, effort = _urdf_joints(urdf_path)
+        self.nq = len(self.joint_names)
+        self.effort = effort
+
+        spec = mujoco.MjSpec.from_file(str(urdf_path))
+        # Keep fixed-joint children (the feet) as bodies: their contacts and poses are looked up
+        # by link name.
+        spec.compiler.fusestatic = False
+        # Inertia comes only from <inertial>, never from the collision primitives.
+        spec.compiler.inertiafromgeom = mujoco.mjtInertiaFromGeom.mjINERTIAFROMGEOM_FALSE
+        spec.compiler.discardvisual = True
+
+        integrator = str(phys["integrator"]).lower()
+        if integrator not in _INTEGRATORS:
+            raise ValueError(f"integrator: expected one of {sorted(_INTEGRATORS)}, "
+                             f"got {integrator!r}")
+        spec.option.integrator = _INTEGRATORS[integrator]
+        spec.option.timestep = float(phys["timestep"])
+        spec.option.gravity = np.asarray(phys["gravity"], dtype=float)
+        # Friction cone and its stiffness: MuJoCo's soft friction lets a loaded foot creep; see
+        # sim.toml for the measured creep under each setting.
+        cone = str(phys["cone"]).lower()
+        if cone not in _CONES:
+            raise ValueError(f"cone: expected one of {sorted(_CONES)}, got {cone!r}")
+        spec.option.cone = _CONES[cone]
+        impratio = float(phys["impratio"])
+        if not np.isfinite(impratio) or impratio <= 0:
+            raise ValueError(f"impratio: expected a positive number, got {phys['impratio']!r}")
+        spec.option.impratio = impratio
+        noslip = int(phys["noslip_iterations"])
+        if noslip < 0:
+            raise ValueError(f"noslip_iterations: expected >= 0, got {noslip}")
+        spec.option.noslip_iterations = noslip
+
+        # The URDF root link is the only child of the world; it gets the six free DoFs.
+        root = spec.worldbody.first_body()
+        if root is None:
+            raise ValueError(f"{urdf_path}: no links")
+        self.base_body = root.name
+        root.add_freejoint(name=_FREE_JOINT)
+
+        # Robot geoms: contype 0, conaffinity 1. The floor (contype 1) hits them, but two robot
+        # geoms never collide: legs may cross the trunk's box without a self-contact.
+        for geom in spec.geoms:
+            geom.contype, geom.conaffinity = 0, 1
+        for foot in self.feet:
+            body = spec.body(foot)
+            if body is None:
+                raise ValueError(f"feet: no link named {foot!r} in {urdf_path}")
+            geoms = list(body.geoms)
+            if not geoms:
+                raise ValueError(f"feet: link {foot!r} has no collision geometry")
+            for k, geom in enumerate(geoms):
+                geom.name = f"{foot}_geom" if len(geoms) == 1 else f"{foot}_geom{k}"
+                geom.friction = [friction, *_SPIN_ROLL]
+            body.add_site(name=f"{foot}_site")
+
+        if fcfg["enabled"]:
+            # Plane normal = its local z; Ry(-slope) turns it to (-sin a, 0, cos a).
+            quat = [np.cos(-self.slope / 2), 0.0, np.sin(-self.slope / 2), 0.0]
+            spec.worldbody.add_geom(name=_FLOOR, type=mujoco.mjtGeom.mjGEOM_PLANE,
+                                    size=[0.0, 0.0, 0.05], quat=quat, contype=1, conaffinity=1,
+                                    friction=[friction, *_SPIN_ROLL])
+        self.floor = bool(fcfg["enabled"])
+
+        damp, fric, arm = (_per_joint(jcfg[k], self.nq, k)
+                           for k in ("damping", "frictionloss", "armature"))
+        for name, b, f, a in zip(self.joint_names, damp, fric, arm):
+            joint = spec.joint(name)
+            joint.damping = [b, 0.0, 0.0]  # MuJoCo 4: linear coefficient, then polynomial terms
+            joint.frictionloss, joint.armature = f, a
+
+        act_type = cfg["actuators"]["type"]
+        if act_type != "motor":
+            raise ValueError(f"actuators.type: only 'motor' is supported, got {act_type!r}")
+        for name, e in zip(self.joint_names, effort):
+            act = spec.add_actuator(name=name, target=name, trntype=mujoco.mjtTrn.mjTRN_JOINT)
+            act.set_to_motor()
+            if np.isfinite(e):
+                act.ctrllimited = act.forcelimited = mujoco.mjtLimited.mjLIMITED_TRUE
+                act.ctrlrange = act.forcerange = [-e, e]
+            spec.add_sensor(name=f"{name}_pos", type=mujoco.mjtSensor.mjSENS_JOINTPOS,
+                            objtype=mujoco.mjtObj.mjOBJ_JOINT, objname=name)
+            spec.add_sensor(name=f"{name}_vel", type=mujoco.mjtSensor.mjSENS_JOINTVEL,
+                            objtype=mujoco.mjtObj.mjOBJ_JOINT, objname=name)
+
+        imu = cfg["imu"]
+        imu_body = spec.body(imu["body"] or self.base_body)
+        if imu_body is None:
+            raise ValueError(f"imu.body: no link named {imu['body']!r} in {urdf_path}")
+        self.imu_site = imu["site"]
+        imu_body.add_site(name=self.imu_site, pos=_fixed(imu["pos"], (3,), "imu.pos"))
+        site = mujoco.mjtObj.mjOBJ_SITE
+        for kind, stype in (("gyro", mujoco.mjtSensor.mjSENS_GYRO),
+                            ("accel", mujoco.mjtSensor.mjSENS_ACCELEROMETER),
+                            ("quat", mujoco.mjtSensor.mjSENS_FRAMEQUAT)):
+            spec.add_sensor(name=f"{self.imu_site}_{kind}", type=stype, objtype=site,
+                            objname=self.imu_site)
+
+        self.spec = spec  # kept for inspection, e.g. plant.spec.to_xml()
+        self.model = spec.compile()
+        self.data = mujoco.MjData(self.model)
+
+        m = self.model
+        jid = [m.joint(n).id for n in self.joint_names]
+        self._qadr = m.jnt_qposadr[jid].copy()
+        self._dadr = m.jnt_dofadr[jid].copy()
+        free = m.joint(_FREE_JOINT)
+        self._free_q = int(free.qposadr[0])
+        self._free_d = int(free.dofadr[0])
+        self._act = np.array([m.actuator(n).id for n in self.joint_names])
+        self._pos_sens = np.array([m.sensor_adr[m.sensor(f"{n}_pos").id] for n in self.joint_names])
+        self._vel_sens = np.array([m.sensor_adr[m.sensor(f"{n}_vel").id] for n in self.joint_names])
+        self._imu_adr = {k: int(m.sensor_adr[m.sensor(f"{self.imu_site}_{k}").id])
+                         for k in ("gyro", "accel", "quat")}
+        self._base_id = m.body(self.base_body).id
+        self._foot_ids = np.array([m.body(f).id for f in self.feet])
+        # geom id -> foot index (or -1), for the contact bookkeeping
+        self._geom_foot = np.full(m.ngeom, -1)
+        for k, bid in enumerate(self._foot_ids):
+            self._geom_foot[m.geom_bodyid == bid] = k
+        self.total_mass = float(mujoco.mj_getTotalmass(m))
+
+        q0 = jcfg["q0"]
+        self.q0 = np.zeros(self.nq) if q0 is None else self._vector(q0, "q0")
+        # Flat-ground standing pose; on a slope the whole configuration is rotated with the ground
+        # about the world y axis through the origin, so that the same feet touch the tilted plane
+        # and the trunk is aligned with it (pitched nose-up by the slope when climbing along +x).
+        R_slope = np.array([[np.cos(self.slope), 0.0, -np.sin(self.slope)],
+                            [0.0, 1.0, 0.0],
+                            [np.sin(self.slope), 0.0, np.cos(self.slope)]])
+        q_slope = np.array([np.cos(-self.slope / 2), 0.0, np.sin(-self.slope / 2), 0.0])
+        quat0 = _unit_quat(cfg["base"]["quat0"], "base.quat0")
+        pos0 = cfg["base"]["pos0"]
+        pos0 = self._stand_pos(quat0) if pos0 is None else _fixed(pos0, (3,), "base.pos0")
+        self.base_pos0 = R_slope @ pos0
+        self.base_quat0 = _quat_mul(q_slope, quat0)
+
+        self._foot_forces = np.zeros((len(self.feet), 3))
+        self.reset()
+
+    # --- configuration ---------------------------------------------------------------------
+
+    @property
+    def timestep(self) -> float:
+        return float(self.model.opt.timestep)
+
+    def _vector(self, x, name: str) -> np.ndarray:
+        return _fixed(x, (self.nq,), name)
+
+    def _stand_pos(self, quat0: np.ndarray) -> np.ndarray:
+        """Trunk position over the origin at which the lowest foot geom (by its bounding sphere,
+        exact for spheres) touches flat ground at z = 0, with the joints at q0."""
+        d = mujoco.MjData(self.model)
+        d.qpos[self._qadr] = self.q0
+        d.qpos[self._free_q + 3:self._free_q + 7] = quat0
+        mujoco.mj_kinematics(self.model, d)
+        feet = self._geom_foot >= 0
+        bottom = np.min(d.geom_xpos[feet, 2] - self.model.geom_rbound[feet])
+        return np.array([0.0, 0.0, -bottom])
+
+    def reset(self, q=None, base_pos=None, base_quat=None) -> None:
+        """Joints at q (default q0), trunk at base_pos/base_quat, all velocities 0.
+
+        The defaults base_pos0/base_quat0 put the standing pose on the ground with the feet just
+        touching it. On a slope that is the flat-ground pose rotated with the ground about the
+        world y axis: the trunk is aligned with the plane (pitched nose-up by the slope, yaw 0,
+        facing uphill along +x), its origin at the standing height along the ground normal from
+        the plane (h / cos(slope) vertically), and the legs perpendicular to the plane. Pass
+        base_quat=(1, 0, 0, 0) and a base_pos of your own for a level trunk.
+        """
+        mujoco.mj_resetData(self.model, self.data)
+        d = self.data
+        d.qpos[self._qadr] = self.q0 if q is None else self._vector(q, "q")
+        fq = self._free_q
+        d.qpos[fq:fq + 3] = self.base_pos0 if base_pos is None else _fixed(base_pos, (3,),
+                                                                           "base_pos")
+        d.qpos[fq + 3:fq + 7] = (self.base_quat0 if base_quat is None
+                                 else _unit_quat(base_quat, "base_quat"))
+        self._push_force = np.zeros(3)
+        self._push_steps = 0
+        self._pushing = False  # mj_resetData cleared xfrc_applied
+        # Positions, velocities, sensors and the contact forces for the state just set (zero ctrl).
+        mujoco.mj_forward(self.model, d)
+        self._foot_forces = self._contact_forces()
+
+    # --- sensors (what a robot measures) -----------------------------------------------------
+
+    def joint_q(self) -> np.ndarray:
+        """Joint encoder positions (nq,) [rad]."""
+        return self.data.sensordata[self._pos_sens].copy()
+
+    def joint_qd(self) -> np.ndarray:
+        """Joint encoder velocities (nq,) [rad/s]."""
+        return self.data.sensordata[self._vel_sens].copy()
+
+    # The names the fixed-base SIL loop (sil/loop.py) expects of a plant.
+    q = joint_q
+    qd = joint_qd
+
+    def imu(self) -> dict:
+        """Ideal IMU at the IMU site: "gyro" (3,) [rad/s] and "accel" (3,) [m/s^2] in the body
+        frame, the accelerometer reading specific force (+g up at rest); "quat" (4,) w, x, y, z,
+        world <- body."""
+        s, a = self.data.sensordata, self._imu_adr
+        return {"gyro": s[a["gyro"]:a["gyro"] + 3].copy(),
+                "accel": s[a["accel"]:a["accel"] + 3].copy(),
+                "quat": s[a["quat"]:a["quat"] + 4].copy()}
+
+    # --- ground truth (what only the simulator knows) ----------------------------------------
+
+    def base_pose(self) -> tuple[np.ndarray, np.ndarray]:
+        """Trunk origin position (3,) [m] and orientation quat (4,) w, x, y, z, world <- trunk."""
+        fq = self._free_q
+        return self.data.qpos[fq:fq + 3].copy(), self.data.qpos[fq + 3:fq + 7].copy()
+
+    def base_velocity(self) -> tuple[np.ndarray, np.ndarray]:
+        """Trunk origin linear velocity in the world frame (3,) [m/s] and angular velocity in the
+        trunk frame (3,) [rad/s] (MuJoCo's free-joint convention)."""
+        fd = self._free_d
+        return self.data.qvel[fd:fd + 3].copy(), self.data.qvel[fd + 3:fd + 6].copy()
+
+    def foot_positions(self) -> np.ndarray:
+        """Foot link origins (the contact spheres' centres) in the world frame (n_feet, 3) [m]."""
+        return self.data.xpos[self._foot_ids].copy()
+
+    def foot_contact_forces(self) -> np.ndarray:
+        """Force exerted by the ground on each foot, world frame (n_feet, 3) [N], summed over the
+        foot's contacts, during the last step (see the module docstring)."""
+        return self._foot_forces.copy()
+
+    def ground_normal(self) -> np.ndarray:
+        """Unit normal of the floor plane in the world frame (3,)."""
+        return np.array([-np.sin(self.slope), 0.0, np.cos(self.slope)])
+
+    def ground_height(self, x: float) -> float:
+        """Floor height [m] at world x (the plane contains the world y axis)."""
+        return float(x) * np.tan(self.slope)
+
+    def time(self) -> float:
+        return float(self.data.time)
+
+    # --- commands ----------------------------------------------------------------------------
+
+    def set_torque(self, tau) -> None:
+        # MuJoCo clamps ctrl to ctrlrange (the URDF effort limit) inside the step.
+        self.data.ctrl[self._act] = self._vector(tau, "tau")
+
+    def apply_push(self, force_world, duration) -> None:
+        """Constant force (3,) [N] on the trunk CoM, world frame, for `duration` [s] from now,
+        rounded to whole physics steps (impulse = force * steps * timestep). Replaces a push in
+        progress; step() clears it when it ends."""
+        force = _fixed(force_world, (3,), "force_world")
+        duration = float(duration)
+        if not np.isfinite(duration) or duration < 0:
+            raise ValueError(f"duration: expected a non-negative number, got {duration!r}")
+        self._push_force = force
+        self._push_steps = int(np.floor(duration / self.timestep + 0.5 + 1e-9))  # half up
+
+    def step(self, n: int = 1) -> None:
+        # mj_step2 then mj_step1 instead of mj_step: mj_step computes sensors and site poses before
+        # integrating, so after it they would describe the previous state. This way positions,
+        # velocities and their sensors describe the current state, at the cost of one mj_step.
+        m, d, b = self.model, self.data, self._base_id
+        n = int(n)
+        for k in range(n):
+            if self._push_steps > 0:
+                d.xfrc_applied[b, :3] = self._push_force
+                self._push_steps -= 1
+                self._pushing = True
+            elif self._pushing:
+                d.xfrc_applied[b, :3] = 0.0
+                self._pushing = False
+            mujoco.mj_step2(m, d)
+            if k == n - 1:
+                # Contacts and constraint forces agree only here: mj_step1 re-detects the
+                # contacts for the new positions, whose forces the next mj_step2 solves.
+                self._foot_forces = self._contact_forces()
+            mujoco.mj_step1(m, d)
+
+    def _contact_forces(self) -> np.ndarray:
+        m, d = self.model, self.data
+        out = np.zeros((len(self.feet), 3))
+        f6 = np.zeros(6)
+        for i in range(d.ncon):
+            c = d.contact[i]
+            k1, k2 = self._geom_foot[c.geom1], self._geom_foot[c.geom2]
+            if k1 < 0 and k2 < 0:
+                continue
+            mujoco.mj_contactForce(m, d, i, f6)
+            # f6[:3]: force of geom1 on geom2 in the contact frame, whose rows are its axes
+            # (normal first, pointing from geom1 to geom2).
+            f_world = c.frame.reshape(3, 3).T @ f6[:3]
+            if k2 >= 0:
+                out[k2] += f_world
+            if k1 >= 0:
+                out[k1] -= f_world
+        return out
