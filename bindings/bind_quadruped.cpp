@@ -51,6 +51,7 @@ void bind_quadruped(py::module_& m) {
       .def_readwrite("swing_kp", &QuadrupedConfig::swing_kp)
       .def_readwrite("swing_kd", &QuadrupedConfig::swing_kd)
       .def_readwrite("max_acceleration", &QuadrupedConfig::max_acceleration)
+      .def_readwrite("actuation_delay", &QuadrupedConfig::actuation_delay)
       .def_readwrite("max_tilt", &QuadrupedConfig::max_tilt)
       .def_readwrite("stand_pose", &QuadrupedConfig::stand_pose)
       .def_readwrite("crouch", &QuadrupedConfig::crouch)

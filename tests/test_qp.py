@@ -358,3 +358,15 @@ def test_iteration_limit_status():
     res = kl.qp.solve(np.eye(4), -np.ones(4), ub=np.zeros(4), max_iterations=2)
     assert res.status == QpStatus.ITERATION_LIMIT and res.iterations == 2
     assert np.all(np.isfinite(res.x))
+
+
+def test_qp_bench_runs_and_every_solver_agrees(capsys):
+    from kiloloop.bench.qp_bench import print_qp_bench, run_qp_bench
+
+    report = run_qp_bench(quick=True)
+    print_qp_bench(report)
+    assert "ours C++" in capsys.readouterr().out
+    for row in report["results"]:
+        assert row["own_median_us"] is None or row["own_median_us"] > 0
+        if "failures" in row:  # ours and every peer: solved, same objective as ours
+            assert row["failures"] == 0 and row["disagreements"] == 0, row["name"]

@@ -263,8 +263,10 @@ Status QuadrupedController::run(const QuadrupedInput& in, QuadrupedOutput& out) 
     stance[i] = schedule[i].stance && contacts_.contact(i);
     n_stance += stance[i];
   }
-  Eigen::Vector3d e_p = p_des_ - p;
-  double height = 0.0;
+  // Feedback acts on the state predicted one actuation delay ahead, when the command lands.
+  const double tau_d = cfg_.actuation_delay;
+  Eigen::Vector3d e_p = p_des_ - (p + tau_d * v);
+  double height = tau_d * v.z();
   for (int i = 0; i < kLegs; ++i)
     if (stance[i]) height += -(R * meas[i].r).z();
   if (n_stance > 0) {
@@ -273,7 +275,11 @@ Status QuadrupedController::run(const QuadrupedInput& in, QuadrupedOutput& out) 
   }
   const Eigen::Vector3d e_v = v_des - v;
   const Eigen::Quaterniond q_des(Eigen::AngleAxisd(yaw_des_, Eigen::Vector3d::UnitZ()));
-  Eigen::Quaterniond q_err = q_des * estimator_.orientation().conjugate();  // world frame error
+  const Eigen::Vector3d half_turn = 0.5 * tau_d * w_body;
+  const Eigen::Quaterniond q_pred =
+      (estimator_.orientation() * Eigen::Quaterniond(1.0, half_turn.x(), half_turn.y(), half_turn.z()))
+          .normalized();
+  Eigen::Quaterniond q_err = q_des * q_pred.conjugate();  // world frame error
   if (q_err.w() < 0) q_err.coeffs() = -q_err.coeffs();  // shortest path
   const Eigen::Vector3d e_R_body = R.transpose() * (2.0 * q_err.vec());
   const Eigen::Vector3d w_des_body = R.transpose() * Eigen::Vector3d(0, 0, v_cmd_.z());
@@ -339,7 +345,7 @@ Status QuadrupedController::run(const QuadrupedInput& in, QuadrupedOutput& out) 
     const Eigen::Matrix3d Jd = legs_[i].jacobian(q_des);
     Eigen::Vector3d qd_des = Eigen::Vector3d::Zero();
     if (std::abs(Jd.determinant()) > 1e-6) qd_des = Jd.partialPivLu().solve(v_rel);
-    out.tau.segment<3>(3 * i) = tau_gravity[i] + cfg_.swing_kp.cwiseProduct(q_des - q) +
+    out.tau.segment<3>(3 * i) = tau_gravity[i] + cfg_.swing_kp.cwiseProduct(q_des - (q + tau_d * qd)) +
                                 cfg_.swing_kd.cwiseProduct(qd_des - qd);
   }
   saturate(out.tau, &status);

@@ -1,6 +1,7 @@
 #include "kiloloop/quadruped/stance_force.hpp"
 
 #include <cmath>
+#include <limits>
 
 #include <Eigen/Geometry>
 
@@ -25,16 +26,17 @@ Status StanceForceQp::configure(const StanceForceConfig& config, StanceForceQp* 
   qp::QpSettings settings;
   settings.max_iterations = config.max_iterations;
   StanceForceQp s;
-  const Status st = qp::DenseQpSolver::configure(12, 12, 6 * kLegs, settings, &s.solver_, why);
+  const Status st = qp::DenseQpSolver::configure(12, 0, 6 * kLegs, settings, &s.solver_, why);
   if (failed(st)) return st;
   s.cfg_ = config;
   s.A_.setZero();
   for (int i = 0; i < kLegs; ++i) s.A_.block<3, 3>(0, 3 * i).setIdentity();
   s.f_prev_.setZero();
-  s.A_eq_ = Eigen::MatrixXd::Zero(12, 12);
+  s.no_rows_ = Eigen::MatrixXd::Zero(0, 12);
   s.C_ = Eigen::MatrixXd::Zero(6 * kLegs, 12);
-  s.b_eq_ = Eigen::VectorXd::Zero(12);
   s.d_ = Eigen::VectorXd::Zero(6 * kLegs);
+  s.lb_ = Eigen::VectorXd::Constant(12, -std::numeric_limits<double>::infinity());
+  s.ub_ = Eigen::VectorXd::Constant(12, std::numeric_limits<double>::infinity());
   s.none_ = Eigen::VectorXd::Zero(0);
   *out = std::move(s);
   return Status::kOk;
@@ -55,17 +57,14 @@ Status StanceForceQp::solve(const Eigen::Matrix<double, 6, 1>& wrench,
   const Eigen::Vector3d n = normal.normalized();
   const Eigen::Vector3d helper = std::abs(n.x()) < 0.9 ? Eigen::Vector3d::UnitX() : Eigen::Vector3d::UnitY();
   const Eigen::Vector3d t1 = (helper - helper.dot(n) * n).normalized(), t2 = n.cross(t1);
-  int n_eq = 0, n_in = 0;
-  A_eq_.setZero();
+  int n_in = 0;
   C_.setZero();
+  constexpr double kInf = std::numeric_limits<double>::infinity();
   for (int i = 0; i < kLegs; ++i) {
-    if (!stance[i]) {
-      for (int k = 0; k < 3; ++k) {
-        A_eq_(n_eq, 3 * i + k) = 1.0;
-        b_eq_[n_eq++] = 0.0;
-      }
-      continue;
-    }
+    // A foot off the ground carries nothing: fixed at zero by its bounds.
+    lb_.segment<3>(3 * i).setConstant(stance[i] ? -kInf : 0.0);
+    ub_.segment<3>(3 * i).setConstant(stance[i] ? kInf : 0.0);
+    if (!stance[i]) continue;
     const Eigen::Vector3d rows[4] = {t1 - cfg_.mu * n, -t1 - cfg_.mu * n, t2 - cfg_.mu * n,
                                      -t2 - cfg_.mu * n};
     for (const auto& row : rows) {
@@ -77,8 +76,7 @@ Status StanceForceQp::solve(const Eigen::Matrix<double, 6, 1>& wrench,
     C_.block<1, 3>(n_in, 3 * i) = n.transpose();
     d_[n_in++] = cfg_.fz_max;
   }
-  result_ = solver_.solve(H_, g_, A_eq_.topRows(n_eq), b_eq_.head(n_eq), C_.topRows(n_in),
-                          d_.head(n_in), none_, none_, x_);
+  result_ = solver_.solve(H_, g_, no_rows_, none_, C_.topRows(n_in), d_.head(n_in), lb_, ub_, x_);
   if (result_.status != qp::QpStatus::kOptimal || !x_.allFinite()) {
     f = f_prev_;
     return Status::kSolverFailed;

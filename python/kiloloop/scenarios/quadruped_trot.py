@@ -33,7 +33,9 @@ def trot_metrics(log, speed: float, since: float) -> dict:
         "roll_rms_deg": float(np.sqrt(np.mean(rp[:, 0] ** 2))),
         "pitch_rms_deg": float(np.sqrt(np.mean(rp[:, 1] ** 2))),
         "roll_pitch_rms_deg": float(np.sqrt(np.mean(rp ** 2, axis=0)).max()),
-        "velocity_rms_error": float(np.sqrt(np.mean((v[:, 0] - speed) ** 2 + v[:, 1] ** 2))),
+        # Forward velocity (heading frame) against the command, as the criterion asks.
+        "velocity_rms_error": float(np.sqrt(np.mean((v[:, 0] - speed) ** 2))),
+        "lateral_velocity_rms": float(np.sqrt(np.mean(v[:, 1] ** 2))),
         "mean_forward_velocity": float(np.mean(v[:, 0])),
         "distance_m": float(log["base_pos"][-1, 0] - log["base_pos"][0, 0]),
         "failed_ticks": int(np.sum(log["status"] < 0)),

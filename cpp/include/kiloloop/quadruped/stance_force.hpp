@@ -4,7 +4,8 @@
 //   minimize   |A f - w|^2_S + alpha |f|^2 + beta |f - f_prev|^2
 //   subject to friction pyramid |f.t1|, |f.t2| <= mu f.n   (n: ground normal, t1, t2: tangents)
 //              fz_min <= f.n <= fz_max                      (stance feet)
-//              f_i = 0                                      (feet not in stance)
+//              f_i = 0                                      (feet not in stance: lb = ub = 0,
+//                                                            eliminated by the solver)
 // with A = [I ... I; [r_1]x ... [r_4]x], r_i the foot position relative to the CoM. Solved with
 // kiloloop's dense QP (12 variables); allocation-free after configure.
 #include <array>
@@ -47,8 +48,8 @@ class StanceForceQp {
   Eigen::Matrix<double, 6, 12> A_;
   Eigen::Matrix<double, 12, 12> H_;
   Eigen::Matrix<double, 12, 1> g_, f_prev_, x_;
-  Eigen::MatrixXd A_eq_, C_;  // preallocated (12 x 12), (24 x 12); leading rows used
-  Eigen::VectorXd b_eq_, d_, none_;
+  Eigen::MatrixXd no_rows_, C_;  // (0 x 12); (24 x 12) preallocated, leading rows used
+  Eigen::VectorXd d_, lb_, ub_, none_;
 };
 
 }  // namespace kiloloop
