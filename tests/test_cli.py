@@ -45,3 +45,6 @@ def test_bench_quick_reports_zero_allocations():
     for x in report["core"]["results"]:
         assert x["allocations_per_call"] == 0, x["name"]
     assert report["sil"]["tick_over_mj_step"] > 0
+    assert "quadruped.step" in names
+    assert report["quadruped_sil"]["real_time_factor"] > 0
+    assert report["qp"], "the QP comparison ran"

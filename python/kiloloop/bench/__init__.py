@@ -24,7 +24,8 @@ import kiloloop as kl
 def core_benchmark(quick: bool) -> dict:
     exe = Path(str(files("kiloloop") / "bin" / "kiloloop_bench_core"))
     urdf = kl.models_dir() / "ur5" / "ur5.urdf"
-    cmd = [str(exe), str(urdf), "--json"] + (["--quick"] if quick else [])
+    quadruped = kl.models_dir() / "quadruped" / "quadruped.urdf"
+    cmd = [str(exe), str(urdf), "--quadruped", str(quadruped), "--json"] + (["--quick"] if quick else [])
     out = subprocess.run(cmd, check=True, capture_output=True, text=True)
     return json.loads(out.stdout)
 
@@ -101,6 +102,33 @@ def sil_benchmark(quick: bool) -> dict:
     }
 
 
+def quadruped_sil_benchmark(quick: bool) -> dict:
+    """Real-time factor of quadruped-trot (non-idealities on) and its tick cost vs raw mj_step."""
+    from ..scenarios import parse_settings, quadruped_trot
+    from ..sil.quadruped_rig import rig_from_settings
+
+    duration = 2.0 if quick else 10.0
+    settings = parse_settings(quadruped_trot.DEFAULTS, None)
+    rig = rig_from_settings(settings, seed=0)
+    start = time.perf_counter()
+    log = rig.run(duration, quadruped_trot.trot_command(settings["speed"]))
+    wall = time.perf_counter() - start
+    ticks = len(log["t"])
+    raw = _raw_mj_step_seconds(rig.plant, ticks)
+    inp, out = kl.QuadrupedInput(), kl.QuadrupedOutput()
+    controller = kl.QuadrupedController(rig.model)
+    calls = 2000 if quick else 20000
+    start = time.perf_counter()
+    for k in range(calls):
+        inp.t = inp.stamp = k * 0.001
+        controller.step(inp, out)
+    step_py = (time.perf_counter() - start) / calls
+    return {"scenario": "quadruped-trot", "sim_seconds": duration, "ticks": ticks,
+            "physics_dt": rig.plant.timestep, "real_time_factor": duration / wall,
+            "tick_cost_us": wall / ticks * 1e6, "raw_mj_step_us": raw * 1e6,
+            "tick_over_mj_step": (wall / ticks) / raw, "python_controller_step_us": step_py * 1e6}
+
+
 def _print_core(core: dict) -> None:
     m = core["machine"]
     print(f"C++ core, UR5, {core['calls']} calls each  [{m['cpu']}, {m['nproc']} cores, "
@@ -136,15 +164,35 @@ def arm_track_duration() -> float:
     return arm_track.DURATION
 
 
+def _print_quadruped_sil(q: dict) -> None:
+    print(f"SIL {q['scenario']} ({q['sim_seconds']} s simulated, non-idealities on, physics dt "
+          f"{q['physics_dt'] * 1e3:g} ms)")
+    print(f"  real-time factor                   {q['real_time_factor']:8.1f} x")
+    print(f"  SIL tick cost                      {q['tick_cost_us']:8.1f} us")
+    print(f"  raw mj_step cost                   {q['raw_mj_step_us']:8.1f} us")
+    print(f"  SIL tick / raw mj_step             {q['tick_over_mj_step']:8.2f}")
+    print(f"  controller step via Python         {q['python_controller_step_us']:8.2f} us")
+
+
 def run_benchmarks(quick: bool = False, as_json: bool = False) -> int:
+    from .qp_bench import print_qp_bench, run_qp_bench
+
     core = core_benchmark(quick)
     sil = sil_benchmark(quick)
+    quadruped = quadruped_sil_benchmark(quick)
+    qp = run_qp_bench(quick)
     report = {"python": sys.version.split()[0], "platform": platform.platform(),
-              "mujoco": mujoco.__version__, "kiloloop": kl.__version__, "core": core, "sil": sil}
+              "mujoco": mujoco.__version__, "kiloloop": kl.__version__, "core": core, "sil": sil,
+              "quadruped_sil": quadruped, "qp": qp}
     if as_json:
-        print(json.dumps(report))
+        # numpy scalars (from the peers' results) print as plain numbers
+        print(json.dumps(report, default=lambda o: o.item() if hasattr(o, "item") else str(o)))
     else:
         _print_core(core)
         print()
         _print_sil(sil)
+        print()
+        _print_quadruped_sil(quadruped)
+        print()
+        print_qp_bench(qp)
     return 0
