@@ -181,9 +181,10 @@ def run_benchmarks(quick: bool = False, as_json: bool = False) -> int:
     sil = sil_benchmark(quick)
     quadruped = quadruped_sil_benchmark(quick)
     qp = run_qp_bench(quick)
+    limits = None if quick else quadruped_limits()
     report = {"python": sys.version.split()[0], "platform": platform.platform(),
               "mujoco": mujoco.__version__, "kiloloop": kl.__version__, "core": core, "sil": sil,
-              "quadruped_sil": quadruped, "qp": qp}
+              "quadruped_sil": quadruped, "qp": qp, "quadruped_limits": limits}
     if as_json:
         # numpy scalars (from the peers' results) print as plain numbers
         print(json.dumps(report, default=lambda o: o.item() if hasattr(o, "item") else str(o)))
@@ -195,4 +196,29 @@ def run_benchmarks(quick: bool = False, as_json: bool = False) -> int:
         _print_quadruped_sil(quadruped)
         print()
         print_qp_bench(qp)
+        if limits is not None:
+            print()
+            _print_limits(limits)
     return 0
+
+
+def quadruped_limits() -> dict:
+    """Highest trot speed passing quadruped-trot, largest push recovered / survived."""
+    from ..scenarios import quadruped_push, quadruped_trot
+
+    return {"trot": quadruped_trot.max_passing_speed(speeds=(0.5, 0.75, 1.0, 1.25)),
+            "push": quadruped_push.max_recovered_impulse()}
+
+
+def _print_limits(limits: dict) -> None:
+    trot, push = limits["trot"], limits["push"]
+    print("Quadruped limits (scenario criteria, non-idealities on)")
+    print(f"  highest trot speed passing quadruped-trot   {trot['max_passing_speed']:.2f} m/s   (goal >= 1 m/s)")
+    for speed, r in trot["runs"].items():
+        print(f"    {float(speed):5.2f} m/s  passed={r['passed']!s:<5}  fell={r['fell']:.0f}  "
+              f"roll/pitch RMS {r['roll_pitch_rms_deg']:.2f} deg  velocity RMS error {r['velocity_rms_error']:.3f} m/s")
+    print(f"  largest push passing quadruped-push         {push['max_recovered_impulse']:.1f} N s   (goal >= 12 N s)")
+    print(f"  largest push survived (no fall)             {push['max_survived_impulse']:.1f} N s")
+    for impulse, r in push["runs"].items():
+        print(f"    {float(impulse):5.1f} N s  passed={r['passed']!s:<5}  fell={r['fell']:.0f}  "
+              f"roll peak {r['roll_peak_deg']:.2f} deg  roll after 0.8 s {r['roll_after_recovery_deg']:.2f} deg")
