@@ -48,6 +48,7 @@ void bind_quadruped(py::module_& m) {
       .def_readwrite("swing_height", &QuadrupedConfig::swing_height)
       .def_readwrite("raibert_gain", &QuadrupedConfig::raibert_gain)
       .def_readwrite("touchdown_depth", &QuadrupedConfig::touchdown_depth)
+      .def_readwrite("foothold_shift", &QuadrupedConfig::foothold_shift)
       .def_readwrite("swing_kp", &QuadrupedConfig::swing_kp)
       .def_readwrite("swing_kd", &QuadrupedConfig::swing_kd)
       .def_readwrite("max_acceleration", &QuadrupedConfig::max_acceleration)

@@ -45,6 +45,7 @@ struct QuadrupedConfig {
   double swing_height = 0.08;         // [m] apex above the line lift-off -> touch-down
   double raibert_gain = 0.15;         // [s] foothold shift per m/s of velocity error (~sqrt(h/g))
   double touchdown_depth = 0.01;      // [m] aim this far below the ground to make contact
+  Eigen::Vector2d foothold_shift = Eigen::Vector2d::Zero();  // [m] trunk-frame shift of all footholds
   // Swing gains are limited by the motor command delay (10 ms by default in SIL): with the light
   // shank, kd above ~1 N m s/rad turns the delayed derivative action unstable.
   Eigen::Vector3d swing_kp{40.0, 40.0, 20.0};  // [N m/rad] abduction, pitch, knee
