@@ -54,7 +54,7 @@ def run(settings: dict, seed: int = 0, duration: float | None = None) -> Scenari
 
 def _fell_early(log) -> bool:
     # Cheap check every tick: the trunk on the ground ends the run (it is a fall either way).
-    return log._series["base_pos"][-1][2] < 0.12
+    return log.last("base_pos")[2] < 0.12
 
 
 def max_passing_speed(speeds=(0.5, 0.75, 1.0, 1.25, 1.5), seed: int = 0, settings=None) -> dict:

@@ -23,6 +23,10 @@ class SignalLog:
         """Stores a whole series computed after the run (e.g. a reference derived from the log)."""
         self._series[name] = [np.array(v, dtype=float, copy=True) for v in series]
 
+    def last(self, name: str) -> np.ndarray:
+        """The most recent sample of a signal (cheap: no stacking)."""
+        return self._series[name][-1]
+
     def names(self) -> list[str]:
         return list(self._series)
 
