@@ -19,7 +19,7 @@ from pathlib import Path
 import mujoco
 import numpy as np
 
-from .plant import _INTEGRATORS, _per_joint, _urdf_joints
+from .plant import _INTEGRATORS, _add_joints_and_motors, _urdf_joints
 
 _FEET = ("FL_foot", "FR_foot", "RL_foot", "RR_foot")
 _DEFAULTS = {
@@ -172,26 +172,7 @@ class FloatingBasePlant:
                                     friction=[friction, *_SPIN_ROLL])
         self.floor = bool(fcfg["enabled"])
 
-        damp, fric, arm = (_per_joint(jcfg[k], self.nq, k)
-                           for k in ("damping", "frictionloss", "armature"))
-        for name, b, f, a in zip(self.joint_names, damp, fric, arm):
-            joint = spec.joint(name)
-            joint.damping = [b, 0.0, 0.0]  # MuJoCo 4: linear coefficient, then polynomial terms
-            joint.frictionloss, joint.armature = f, a
-
-        act_type = cfg["actuators"]["type"]
-        if act_type != "motor":
-            raise ValueError(f"actuators.type: only 'motor' is supported, got {act_type!r}")
-        for name, e in zip(self.joint_names, effort):
-            act = spec.add_actuator(name=name, target=name, trntype=mujoco.mjtTrn.mjTRN_JOINT)
-            act.set_to_motor()
-            if np.isfinite(e):
-                act.ctrllimited = act.forcelimited = mujoco.mjtLimited.mjLIMITED_TRUE
-                act.ctrlrange = act.forcerange = [-e, e]
-            spec.add_sensor(name=f"{name}_pos", type=mujoco.mjtSensor.mjSENS_JOINTPOS,
-                            objtype=mujoco.mjtObj.mjOBJ_JOINT, objname=name)
-            spec.add_sensor(name=f"{name}_vel", type=mujoco.mjtSensor.mjSENS_JOINTVEL,
-                            objtype=mujoco.mjtObj.mjOBJ_JOINT, objname=name)
+        _add_joints_and_motors(spec, self.joint_names, effort, jcfg, cfg["actuators"])
 
         imu = cfg["imu"]
         imu_body = spec.body(imu["body"] or self.base_body)

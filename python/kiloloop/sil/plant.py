@@ -67,6 +67,29 @@ def _urdf_joints(urdf_path: Path) -> tuple[list[str], np.ndarray]:
     return names, np.array(effort)
 
 
+def _add_joints_and_motors(spec, joint_names, effort, jcfg: dict, actuators: dict) -> None:
+    """Joint damping/friction/armature from the overlay, one torque motor per joint (ctrlrange =
+    forcerange = +-effort) and jointpos/jointvel encoders named <joint>_pos, <joint>_vel."""
+    n = len(joint_names)
+    damp, fric, arm = (_per_joint(jcfg[k], n, k) for k in ("damping", "frictionloss", "armature"))
+    for name, b, f, a in zip(joint_names, damp, fric, arm):
+        joint = spec.joint(name)
+        joint.damping = [b, 0.0, 0.0]  # MuJoCo 4: linear coefficient, then polynomial terms
+        joint.frictionloss, joint.armature = f, a
+    if actuators["type"] != "motor":
+        raise ValueError(f"actuators.type: only 'motor' is supported, got {actuators['type']!r}")
+    for name, e in zip(joint_names, effort):
+        act = spec.add_actuator(name=name, target=name, trntype=mujoco.mjtTrn.mjTRN_JOINT)
+        act.set_to_motor()
+        if np.isfinite(e):
+            act.ctrllimited = act.forcelimited = mujoco.mjtLimited.mjLIMITED_TRUE
+            act.ctrlrange = act.forcerange = [-e, e]
+        spec.add_sensor(name=f"{name}_pos", type=mujoco.mjtSensor.mjSENS_JOINTPOS,
+                        objtype=mujoco.mjtObj.mjOBJ_JOINT, objname=name)
+        spec.add_sensor(name=f"{name}_vel", type=mujoco.mjtSensor.mjSENS_JOINTVEL,
+                        objtype=mujoco.mjtObj.mjOBJ_JOINT, objname=name)
+
+
 class MujocoPlant:
     """A torque-controlled MuJoCo model of a fixed-base URDF robot."""
 
@@ -111,26 +134,7 @@ class MujocoPlant:
             spec.worldbody.add_geom(name="floor", type=mujoco.mjtGeom.mjGEOM_PLANE,
                                     size=[0.0, 0.0, 0.05], contype=1, conaffinity=1)
 
-        damp, fric, arm = (_per_joint(jcfg[k], self.nq, k)
-                           for k in ("damping", "frictionloss", "armature"))
-        for name, b, f, a in zip(self.joint_names, damp, fric, arm):
-            joint = spec.joint(name)
-            joint.damping = [b, 0.0, 0.0]  # MuJoCo 4: linear coefficient, then polynomial terms
-            joint.frictionloss, joint.armature = f, a
-
-        act_type = cfg["actuators"]["type"]
-        if act_type != "motor":
-            raise ValueError(f"actuators.type: only 'motor' is supported, got {act_type!r}")
-        for name, e in zip(self.joint_names, effort):
-            act = spec.add_actuator(name=name, target=name, trntype=mujoco.mjtTrn.mjTRN_JOINT)
-            act.set_to_motor()
-            if np.isfinite(e):
-                act.ctrllimited = act.forcelimited = mujoco.mjtLimited.mjLIMITED_TRUE
-                act.ctrlrange = act.forcerange = [-e, e]
-            spec.add_sensor(name=f"{name}_pos", type=mujoco.mjtSensor.mjSENS_JOINTPOS,
-                            objtype=mujoco.mjtObj.mjOBJ_JOINT, objname=name)
-            spec.add_sensor(name=f"{name}_vel", type=mujoco.mjtSensor.mjSENS_JOINTVEL,
-                            objtype=mujoco.mjtObj.mjOBJ_JOINT, objname=name)
+        _add_joints_and_motors(spec, self.joint_names, effort, jcfg, cfg["actuators"])
 
         ee = cfg["ee"]
         self.ee_site = ee["site"]
