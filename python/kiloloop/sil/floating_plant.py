@@ -13,13 +13,13 @@ forces that produced the current velocity), which after reset() is the interval 
 """
 from __future__ import annotations
 
-import tomllib
 from pathlib import Path
 
 import mujoco
 import numpy as np
 
 from .plant import _INTEGRATORS, _add_joints_and_motors, _urdf_joints
+from .plant import _load_overlay as _load_plant_overlay
 
 _FEET = ("FL_foot", "FR_foot", "RL_foot", "RR_foot")
 _DEFAULTS = {
@@ -42,19 +42,7 @@ _SPIN_ROLL = (0.005, 0.0001)
 
 
 def _load_overlay(overlay) -> dict:
-    if overlay is None:
-        user = {}
-    elif isinstance(overlay, dict):
-        user = overlay
-    else:
-        with open(overlay, "rb") as f:
-            user = tomllib.load(f)
-    merged = {k: dict(v) for k, v in _DEFAULTS.items()}
-    for section, values in user.items():
-        if section not in merged:
-            raise ValueError(f"overlay: unknown section [{section}]")
-        merged[section].update(values)
-    return merged
+    return _load_plant_overlay(overlay, _DEFAULTS)
 
 
 def _fixed(x, shape: tuple, name: str) -> np.ndarray:

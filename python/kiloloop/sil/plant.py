@@ -27,7 +27,8 @@ _INTEGRATORS = {"euler": mujoco.mjtIntegrator.mjINT_EULER,
 _ACTUATED = ("revolute", "continuous", "prismatic")
 
 
-def _load_overlay(overlay) -> dict:
+def _load_overlay(overlay, defaults: dict = _DEFAULTS) -> dict:
+    """The overlay (a sim.toml path, a dict of its sections, or None) merged over `defaults`."""
     if overlay is None:
         user = {}
     elif isinstance(overlay, dict):
@@ -35,7 +36,7 @@ def _load_overlay(overlay) -> dict:
     else:
         with open(overlay, "rb") as f:
             user = tomllib.load(f)
-    merged = {k: dict(v) for k, v in _DEFAULTS.items()}
+    merged = {k: dict(v) for k, v in defaults.items()}
     for section, values in user.items():
         if section not in merged:
             raise ValueError(f"overlay: unknown section [{section}]")

@@ -13,7 +13,7 @@ import kiloloop as kl
 
 from .floating_plant import FloatingBasePlant
 from .log import SignalLog
-from .nonideal import MotorDelay, NonIdealities, SensorModel, saturate
+from .nonideal import MotorDelay, NonIdealities, SensorModel
 
 CONTROL_DT = 0.001  # [s]
 
@@ -78,8 +78,7 @@ class QuadrupedRig:
                 inp.true_position[:], inp.true_velocity[:], inp.true_quat[:] = pos, vel, quat
             status = self.controller.step(inp, out)
             tau = self.motors.push(out.tau[self.to_plant])
-            plant.set_torque(saturate(tau, self.effort, self.settings.nonideal.torque_limit_scale
-                                      if self.settings.nonideal.enabled else 1.0))
+            plant.set_torque(self.settings.nonideal.saturate(tau, self.effort))
             self._record(log, t, status, pos, quat, vel, omega, v_cmd)
             plant.step(self.substeps)
             if stop_when is not None and stop_when(log):
