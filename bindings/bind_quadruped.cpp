@@ -12,7 +12,8 @@ void bind_quadruped(py::module_& m) {
       .def(py::init<>())
       .def_readwrite("force_on", &ContactConfig::force_on)
       .def_readwrite("force_off", &ContactConfig::force_off)
-      .def_readwrite("early_touchdown", &ContactConfig::early_touchdown);
+      .def_readwrite("early_touchdown", &ContactConfig::early_touchdown)
+      .def_readwrite("touchdown_clearance", &ContactConfig::touchdown_clearance);
   py::class_<EstimatorConfig>(m, "EstimatorConfig")
       .def(py::init<>())
       .def_readwrite("attitude_gain", &EstimatorConfig::attitude_gain)
@@ -53,6 +54,8 @@ void bind_quadruped(py::module_& m) {
       .def_readwrite("swing_kd", &QuadrupedConfig::swing_kd)
       .def_readwrite("max_acceleration", &QuadrupedConfig::max_acceleration)
       .def_readwrite("actuation_delay", &QuadrupedConfig::actuation_delay)
+      .def_readwrite("trust_ramp", &QuadrupedConfig::trust_ramp)
+      .def_readwrite("load_ramp", &QuadrupedConfig::load_ramp)
       .def_readwrite("max_tilt", &QuadrupedConfig::max_tilt)
       .def_readwrite("stand_pose", &QuadrupedConfig::stand_pose)
       .def_readwrite("crouch", &QuadrupedConfig::crouch)
@@ -88,6 +91,7 @@ void bind_quadruped(py::module_& m) {
   vector_field(out, "foot_force", &QuadrupedOutput::foot_force, "(12) [N] world, per foot");
   vector_field(out, "contact", &QuadrupedOutput::contact, "(4) 1 = contact detected");
   vector_field(out, "scheduled", &QuadrupedOutput::scheduled, "(4) 1 = stance scheduled");
+  vector_field(out, "foot_clearance", &QuadrupedOutput::foot_clearance, "(4) [m] feet above the estimated ground");
   vector_field(out, "position", &QuadrupedOutput::position, "(3) [m] estimated, world");
   vector_field(out, "velocity", &QuadrupedOutput::velocity, "(3) [m/s] estimated, world");
   vector_field(out, "quat", &QuadrupedOutput::quat, "(4) estimated w, x, y, z");

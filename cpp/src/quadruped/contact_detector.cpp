@@ -3,13 +3,16 @@
 namespace kiloloop {
 
 void ContactDetector::update(const std::array<LegPhase, kLegs>& schedule,
-                             const std::array<double, kLegs>& normal_force) noexcept {
+                             const std::array<double, kLegs>& normal_force,
+                             const std::array<double, kLegs>& clearance) noexcept {
   for (int i = 0; i < kLegs; ++i) {
     const LegPhase& s = schedule[i];
     const bool was = contact_[i];
     if (was) {
-      if (!s.stance && normal_force[i] < cfg_.force_off) contact_[i] = false;
-    } else if (normal_force[i] > cfg_.force_on &&
+      // Lift-off happens early in the swing; a foot that landed late in its swing stays down.
+      if (!s.stance && s.progress <= cfg_.early_touchdown && normal_force[i] < cfg_.force_off)
+        contact_[i] = false;
+    } else if ((normal_force[i] > cfg_.force_on || clearance[i] < cfg_.touchdown_clearance) &&
                (s.stance || s.progress > cfg_.early_touchdown)) {
       contact_[i] = true;
     }

@@ -63,27 +63,63 @@ TEST(ContactDetector, HysteresisAndPhaseGating) {
   det.configure(ContactConfig{});
   std::array<LegPhase, 4> sched{};
   std::array<double, 4> force{};
+  std::array<double, 4> clearance{};
+  clearance.fill(0.05);  // feet well above the ground: only the force decides here
   for (auto& s : sched) s.stance = false, s.progress = 0.2;
   // Loaded leg in early swing stays in contact until the force drops below force_off.
   force.fill(20.0);
-  det.update(sched, force);
+  det.update(sched, force, clearance);
   EXPECT_TRUE(det.contact(0));
   force.fill(5.0);
-  det.update(sched, force);
+  det.update(sched, force, clearance);
   EXPECT_FALSE(det.contact(0));
   // Early in swing a force spike is not a touch-down; late in swing it is.
   force.fill(40.0);
-  det.update(sched, force);
+  det.update(sched, force, clearance);
   EXPECT_FALSE(det.contact(0));
   for (auto& s : sched) s.progress = 0.8;
-  det.update(sched, force);
+  det.update(sched, force, clearance);
   EXPECT_TRUE(det.contact(0));
   EXPECT_TRUE(det.touched_down(0));
   // Between the thresholds nothing changes (hysteresis), even when the schedule says swing.
   force.fill(15.0);
-  det.update(sched, force);
+  det.update(sched, force, clearance);
   EXPECT_TRUE(det.contact(0));
   EXPECT_FALSE(det.touched_down(0));
+}
+
+TEST(ContactDetector, LandedFootCountsBeforeItsForceBuildsUp) {
+  ContactDetector det;
+  det.configure(ContactConfig{});
+  std::array<LegPhase, 4> sched{};
+  std::array<double, 4> force{}, clearance{};
+  for (auto& s : sched) s.stance = false, s.progress = 0.2;
+  clearance.fill(0.05);
+  det.update(sched, force, clearance);  // unloaded swing legs: lift-off
+  ASSERT_FALSE(det.contact(0));
+  // A foot at the ground early in its swing (scuffing) is not a touch-down...
+  clearance.fill(0.0);
+  det.update(sched, force, clearance);
+  EXPECT_FALSE(det.contact(0));
+  // ...late in the swing it is, with no force yet; just above the threshold it is not.
+  for (auto& s : sched) s.progress = 0.9;
+  clearance = {0.001, 0.0049, 0.0051, 0.02};
+  det.update(sched, force, clearance);
+  EXPECT_TRUE(det.contact(0));
+  EXPECT_TRUE(det.contact(1));
+  EXPECT_FALSE(det.contact(2));
+  EXPECT_FALSE(det.contact(3));
+  // A foot that landed late in its swing stays down (no chattering while unloaded)...
+  clearance.fill(0.05);
+  det.update(sched, force, clearance);
+  EXPECT_TRUE(det.contact(0));
+  EXPECT_TRUE(det.contact(1));
+  // ...and leaves contact by force early in its next swing, not while in stance.
+  sched[0].stance = true;
+  sched[1].progress = 0.1;
+  det.update(sched, force, clearance);
+  EXPECT_TRUE(det.contact(0));
+  EXPECT_FALSE(det.contact(1));
 }
 
 }  // namespace

@@ -40,7 +40,8 @@ Status QuadrupedController::configure(const QuadrupedConfig& config, RobotModelP
     return s;
   };
   if (!model) return fail("model is null", Status::kModelError);
-  if (!(config.dt > 0) || !(config.body_height > 0) || !(config.swing_height >= 0) ||
+  if (!(config.dt > 0) || !(config.body_height > 0) || !(config.trust_ramp >= 0) ||
+      !(config.load_ramp >= 0) || !(config.swing_height >= 0) ||
       !(config.max_tilt > 0) || !(config.max_measurement_age > 0) || !(config.foot_radius >= 0))
     return fail("quadruped config: dt, body_height, max_tilt, max_measurement_age must be > 0");
   QuadrupedController c;
@@ -196,8 +197,12 @@ Status QuadrupedController::run(const QuadrupedInput& in, QuadrupedOutput& out) 
   const auto& schedule = gait_.legs();
   const Eigen::Matrix3d R_prev = estimator_.rotation();
   const Eigen::Vector3d n_prev = estimator_.ground_normal();
-  std::array<double, kLegs> normal_force{};
+  const Eigen::Vector3d p_prev = estimator_.position();
+  std::array<double, kLegs> normal_force{}, clearance{};
   for (int i = 0; i < kLegs; ++i) {
+    // Foot sphere's distance above the estimated ground plane (last tick's trunk pose).
+    const Eigen::Vector3d foot = p_prev + R_prev * meas[i].r;
+    clearance[i] = (foot.z() - estimator_.ground_height(foot.x(), foot.y())) * n_prev.z() - cfg_.foot_radius;
     // Static leg: tau = tau_g - J^T f  =>  f = J^-T (tau_g - tau) (trunk frame), skipped near
     // singular poses.
     const Eigen::Matrix3d Jt = J[i].transpose();
@@ -206,10 +211,16 @@ Status QuadrupedController::run(const QuadrupedInput& in, QuadrupedOutput& out) 
       normal_force[i] = n_prev.dot(R_prev * f);
     }
   }
-  contacts_.update(schedule, normal_force);
+  contacts_.update(schedule, normal_force, clearance);
+  out.foot_clearance = Eigen::Vector4d(clearance[0], clearance[1], clearance[2], clearance[3]);
   for (int i = 0; i < kLegs; ++i) {
     meas[i].contact = contacts_.contact(i);
     meas[i].touched_down = contacts_.touched_down(i);
+    contact_time_[i] = meas[i].touched_down ? 0.0 : std::min(contact_time_[i] + cfg_.dt, 1e3);
+    const double until_liftoff = schedule[i].stance ? schedule[i].remaining : 0.0;
+    meas[i].trust = cfg_.trust_ramp > 0
+                        ? std::clamp(std::min(contact_time_[i], until_liftoff) / cfg_.trust_ramp, 0.0, 1.0)
+                        : 1.0;
   }
 
   // 4. State estimate (or ground truth when debugging).
@@ -258,10 +269,16 @@ Status QuadrupedController::run(const QuadrupedInput& in, QuadrupedOutput& out) 
   // 7. Desired wrench about the CoM (world axes). Height is measured by the legs in contact
   // (trunk above the feet), which does not drift the way an integrated estimate does.
   std::array<bool, kLegs> stance{};
+  std::array<double, kLegs> load{};
   int n_stance = 0;
   for (int i = 0; i < kLegs; ++i) {
     stance[i] = schedule[i].stance && contacts_.contact(i);
     n_stance += stance[i];
+    // Time since the scheduled touch-down (standing counts as long ago).
+    stance_time_[i] = schedule[i].stance ? std::min(stance_time_[i] + cfg_.dt, 1e3) : 0.0;
+    load[i] = cfg_.load_ramp > 0
+                  ? std::clamp(std::min(stance_time_[i], schedule[i].remaining) / cfg_.load_ramp, 0.0, 1.0)
+                  : 1.0;
   }
   // Feedback acts on the state predicted one actuation delay ahead, when the command lands.
   const double tau_d = cfg_.actuation_delay;
@@ -294,7 +311,7 @@ Status QuadrupedController::run(const QuadrupedInput& in, QuadrupedOutput& out) 
   std::array<Eigen::Vector3d, kLegs> feet;
   for (int i = 0; i < kLegs; ++i) feet[i] = R * (meas[i].r - com_);
   if (n_stance > 0) {
-    const Status qp = force_qp_.solve(wrench, feet, stance, estimator_.ground_normal(), f_);
+    const Status qp = force_qp_.solve(wrench, feet, stance, load, estimator_.ground_normal(), f_);
     status = worst(status, qp);
     out.qp_iterations = force_qp_.last_result().iterations;
   } else {
@@ -318,12 +335,11 @@ Status QuadrupedController::run(const QuadrupedInput& in, QuadrupedOutput& out) 
     Eigen::Vector3d p_foot, v_foot;
     if (!ph.stance) {
       if (was_stance_[i]) swing_start_[i] = p + R * meas[i].r;  // lift-off point
-      // Raibert foothold: under the hip at mid-stance, shifted against the velocity error.
-      // Nominal foothold under the hip (optionally shifted). Centring the footholds on the
-      // whole-body CoM instead was measured: less roll at 0.5 m/s but falls at 0.75 m/s and
-      // under 6 N s pushes, so the hips stay the reference.
-      const Eigen::Vector3d hip = p + R * (g.abd_origin + Eigen::Vector3d(cfg_.foothold_shift.x(),
-                                                          g.l_abd + cfg_.foothold_shift.y(), 0));
+      // Raibert foothold: at mid-stance under the hip moved to the CoM's x (so that the diagonal
+      // support line passes through the CoM), shifted against the velocity error.
+      const Eigen::Vector3d hip =
+          p + R * (g.abd_origin + Eigen::Vector3d(com_.x() + cfg_.foothold_shift.x(),
+                                                  g.l_abd + cfg_.foothold_shift.y(), 0));
       Eigen::Vector3d target = hip + v * ph.remaining + 0.5 * t_stance * v_des +
                                cfg_.raibert_gain * (v - v_des);
       target.z() = estimator_.ground_height(target.x(), target.y()) + cfg_.foot_radius -

@@ -1,5 +1,8 @@
 #include "kiloloop/quadruped/stance_force.hpp"
 
+#include <algorithm>
+#include <cmath>
+
 #include <cmath>
 #include <limits>
 
@@ -44,7 +47,8 @@ Status StanceForceQp::configure(const StanceForceConfig& config, StanceForceQp* 
 
 Status StanceForceQp::solve(const Eigen::Matrix<double, 6, 1>& wrench,
                             const std::array<Eigen::Vector3d, kLegs>& feet,
-                            const std::array<bool, kLegs>& stance, const Eigen::Vector3d& normal,
+                            const std::array<bool, kLegs>& stance,
+                            const std::array<double, kLegs>& load, const Eigen::Vector3d& normal,
                             Eigen::Matrix<double, 12, 1>& f) noexcept {
   for (int i = 0; i < kLegs; ++i) A_.block<3, 3>(3, 3 * i) = skew(feet[i]);
   const auto S = cfg_.wrench_weight.asDiagonal();
@@ -74,7 +78,8 @@ Status StanceForceQp::solve(const Eigen::Matrix<double, 6, 1>& wrench,
     C_.block<1, 3>(n_in, 3 * i) = -n.transpose();
     d_[n_in++] = -cfg_.fz_min;
     C_.block<1, 3>(n_in, 3 * i) = n.transpose();
-    d_[n_in++] = cfg_.fz_max;
+    const double share = std::isfinite(load[i]) ? std::clamp(load[i], 0.0, 1.0) : 1.0;
+    d_[n_in++] = cfg_.fz_min + share * (cfg_.fz_max - cfg_.fz_min);
   }
   result_ = solver_.solve(H_, g_, no_rows_, none_, C_.topRows(n_in), d_.head(n_in), lb_, ub_, x_);
   if (result_.status != qp::QpStatus::kOptimal || !x_.allFinite()) {

@@ -1,5 +1,7 @@
 #include "kiloloop/quadruped/state_estimator.hpp"
 
+#include <algorithm>
+
 #include <Eigen/Cholesky>
 #include <Eigen/LU>
 
@@ -24,6 +26,7 @@ void StateEstimator::reset(const Eigen::Quaterniond& q_imu,
   x_.setZero();
   x_[2] = -min_z + foot_radius;
   for (int i = 0; i < kLegs; ++i) footholds_[i] = x_.head<3>() + R * legs[i].r;
+  foothold_latched_.fill(true);
   P_ = Eigen::Matrix<double, 6, 6>::Identity() * 1e-4;
   normal_ = Eigen::Vector3d::UnitZ();
   initialised_ = false;  // the first fit takes the plane as it is, unfiltered
@@ -64,33 +67,56 @@ Status StateEstimator::update(const Eigen::Vector3d& gyro, const Eigen::Vector3d
   Q.bottomRightCorner<3, 3>().diagonal().setConstant(dt * dt * qa);
   P_ = F * P_ * F.transpose() + Q;
 
-  // Correct with the legs in contact (averaged: one 6-D measurement with H = I).
+  // Correct with the legs in contact (trust-weighted average: one 6-D measurement with H = I).
   int n = 0;
+  double weight = 0.0;
   Eigen::Vector3d p_sum = Eigen::Vector3d::Zero(), v_sum = Eigen::Vector3d::Zero();
   for (int i = 0; i < kLegs; ++i) {
     const LegMeasurement& leg = legs[i];
-    if (leg.touched_down) {
-      // Latch the foothold where the current estimate puts the foot.
-      footholds_[i] = x_.head<3>() + R * leg.r;
-      fit_ground();
-    }
+    if (leg.touched_down) foothold_latched_[i] = false;
     if (!leg.contact) continue;
-    p_sum += footholds_[i] - R * leg.r;
-    v_sum += -R * (leg.v_rel + omega_.cross(leg.r));
+    const double w = std::clamp(leg.trust, 0.0, 1.0);
+    if (!foothold_latched_[i]) {
+      // Settling: the foothold follows the foot where the current estimate puts it.
+      footholds_[i] = x_.head<3>() + R * leg.r;
+      if (w >= 1.0) {
+        foothold_latched_[i] = true;
+        fit_ground();
+      }
+    }
     ++n;
+    if (w <= 0.0) continue;
+    p_sum += w * (footholds_[i] - R * leg.r);
+    v_sum += w * (-R * (leg.v_rel + omega_.cross(leg.r)));
+    weight += w;
   }
   if (n == 0) return Status::kEstimatorDegraded;
+  if (weight < 1e-3) {  // only feet in transition: predict only, keep the ground as it is
+    return Status::kOk;
+  }
   Eigen::Matrix<double, 6, 1> z;
-  z << p_sum / n, v_sum / n;
+  z << p_sum / weight, v_sum / weight;
   Eigen::Matrix<double, 6, 6> Rm = Eigen::Matrix<double, 6, 6>::Zero();
-  Rm.topLeftCorner<3, 3>().diagonal().setConstant(cfg_.foothold_noise * cfg_.foothold_noise / n);
+  Rm.topLeftCorner<3, 3>().diagonal().setConstant(cfg_.foothold_noise * cfg_.foothold_noise / weight);
   Rm.bottomRightCorner<3, 3>().diagonal().setConstant(cfg_.leg_velocity_noise *
-                                                      cfg_.leg_velocity_noise / n);
+                                                      cfg_.leg_velocity_noise / weight);
   const Eigen::Matrix<double, 6, 6> S = P_ + Rm;
   const Eigen::Matrix<double, 6, 6> K = P_ * S.inverse();
   x_ += K * (z - x_);
   P_ = (Eigen::Matrix<double, 6, 6>::Identity() - K) * P_;
   P_ = 0.5 * (P_ + P_.transpose());
+
+  // The plane's height follows the feet on the ground now. Leg odometry has no absolute height
+  // reference, so the estimate (and the footholds latched from it) drift slowly in z (measured:
+  // ~1 cm/s in a noisy trot); a plane filtered over many touch-downs then lags, and swing feet
+  // aim centimetres into the ground. The slope (normal) still comes from the foothold fit.
+  double offset = 0.0;
+  for (int i = 0; i < kLegs; ++i) {
+    if (!legs[i].contact) continue;
+    const Eigen::Vector3d foot = x_.head<3>() + R * legs[i].r;
+    offset += foot.z() - plane_[1] * foot.x() - plane_[2] * foot.y();
+  }
+  plane_[0] = offset / n - foot_radius_ / normal_.z();
   return Status::kOk;
 }
 

@@ -99,6 +99,7 @@ class QuadrupedRig:
         log.record("safe_stop", float(out.safe_stop))
         log.record("contact", out.contact)
         log.record("scheduled", out.scheduled)
+        log.record("foot_clearance", out.foot_clearance)
         log.record("tau", out.tau)
         log.record("foot_force_cmd", out.foot_force)
         log.record("foot_force", self.plant.foot_contact_forces())

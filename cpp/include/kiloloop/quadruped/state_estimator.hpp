@@ -5,7 +5,11 @@
 //  - Position and velocity: linear Kalman filter on x = [p; v] (world). Prediction uses the
 //    accelerometer (rotated to world, gravity removed); the correction uses legs in contact:
 //      velocity: a stance foot does not move, so v = -R (J qd + w x r) for each stance leg;
-//      position: p = p_foot - R r, with p_foot latched at that foot's touch-down.
+//      position: p = p_foot - R r, with p_foot latched once the foot has settled.
+//    Each leg counts with a trust in [0, 1] (MIT Cheetah's phase-based trust): a foot that has
+//    just landed still sinks into the ground and one about to lift off is unloading; both move,
+//    and counting them biases the height (measured: +12 mm/s of z drift in a trot with full
+//    trust). While trust < 1 the foothold follows the foot; it is latched when trust reaches 1.
 //  - Ground plane: least-squares plane through the four latest foothold positions, giving the
 //    ground normal (friction cones follow it on slopes) and the height of the ground under the trunk.
 // Fixed-size Eigen throughout: update() is noexcept and allocation-free.
@@ -32,6 +36,7 @@ struct LegMeasurement {
   bool touched_down = false;       // contact began this tick: latch the foothold
   Eigen::Vector3d r;               // foot position in the trunk frame [m]
   Eigen::Vector3d v_rel;           // foot velocity from joint motion, J qd, trunk frame [m/s]
+  double trust = 1.0;              // [0, 1] weight of this stance leg in the correction
 };
 
 class StateEstimator {
@@ -67,6 +72,7 @@ class StateEstimator {
   Eigen::Matrix<double, 6, 1> x_ = Eigen::Matrix<double, 6, 1>::Zero();
   Eigen::Matrix<double, 6, 6> P_ = Eigen::Matrix<double, 6, 6>::Identity();
   std::array<Eigen::Vector3d, kLegs> footholds_{};
+  std::array<bool, kLegs> foothold_latched_{true, true, true, true};
   Eigen::Vector3d normal_ = Eigen::Vector3d::UnitZ();
   Eigen::Vector3d plane_ = Eigen::Vector3d::Zero();  // z = a + b x + c y
   double foot_radius_ = 0.0;
