@@ -56,6 +56,8 @@ void bind_quadruped(py::module_& m) {
       .def_readwrite("actuation_delay", &QuadrupedConfig::actuation_delay)
       .def_readwrite("trust_ramp", &QuadrupedConfig::trust_ramp)
       .def_readwrite("load_ramp", &QuadrupedConfig::load_ramp)
+      .def_readwrite("max_position_lag", &QuadrupedConfig::max_position_lag)
+      .def_readwrite("swing_reaction_feedforward", &QuadrupedConfig::swing_reaction_feedforward)
       .def_readwrite("max_tilt", &QuadrupedConfig::max_tilt)
       .def_readwrite("stand_pose", &QuadrupedConfig::stand_pose)
       .def_readwrite("crouch", &QuadrupedConfig::crouch)

@@ -45,10 +45,11 @@ def test_push_of_3_newton_seconds_is_survived():
     assert r.metrics["lateral_velocity_peak"] < 0.5
 
 
-@pytest.mark.xfail(strict=True, reason="roll criteria not met: the undisturbed trot already rolls "
-                                       "about +-3 deg, above the 1 deg recovery band (see closing note)")
-def test_push_meets_roll_criteria():
-    assert_criteria(run("quadruped-push"))
+@pytest.mark.parametrize("seed", [0, 1])
+def test_push_meets_roll_criteria(seed):
+    r = run("quadruped-push", seed=seed)
+    assert_criteria(r)
+    assert r.metrics["roll_before_push_deg"] < 1.0  # the undisturbed trot is inside the band too
 
 
 def test_ground_truth_switch_runs():

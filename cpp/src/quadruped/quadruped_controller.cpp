@@ -41,7 +41,7 @@ Status QuadrupedController::configure(const QuadrupedConfig& config, RobotModelP
   };
   if (!model) return fail("model is null", Status::kModelError);
   if (!(config.dt > 0) || !(config.body_height > 0) || !(config.trust_ramp >= 0) ||
-      !(config.load_ramp >= 0) || !(config.swing_height >= 0) ||
+      !(config.load_ramp >= 0) || !(config.max_position_lag >= 0) || !(config.swing_height >= 0) ||
       !(config.max_tilt > 0) || !(config.max_measurement_age > 0) || !(config.foot_radius >= 0))
     return fail("quadruped config: dt, body_height, max_tilt, max_measurement_age must be > 0");
   QuadrupedController c;
@@ -263,7 +263,8 @@ Status QuadrupedController::run(const QuadrupedInput& in, QuadrupedOutput& out) 
   p_des_.head<2>() += v_des.head<2>() * cfg_.dt;
   // Keep the position target within reach, so a push does not wind it up.
   const Eigen::Vector2d lag = p_des_.head<2>() - p.head<2>();
-  if (lag.norm() > 0.05) p_des_.head<2>() = p.head<2>() + 0.05 * lag.normalized();
+  if (lag.norm() > cfg_.max_position_lag)
+    p_des_.head<2>() = p.head<2>() + cfg_.max_position_lag * lag.normalized();
   p_des_.z() = estimator_.ground_height(p.x(), p.y()) + cfg_.body_height;
 
   // 7. Desired wrench about the CoM (world axes). Height is measured by the legs in contact
@@ -305,31 +306,16 @@ Status QuadrupedController::run(const QuadrupedInput& in, QuadrupedOutput& out) 
                               Eigen::Vector3d(0, 0, kGravity));
   wrench.tail<3>() = R * (inertia_ * (cfg_.kp_orientation.cwiseProduct(e_R_body) +
                                       cfg_.kd_angular.cwiseProduct(w_des_body - w_body)));
-  out.wrench = wrench;
 
-  // 8. Force distribution over the legs that are both scheduled and detected on the ground.
-  std::array<Eigen::Vector3d, kLegs> feet;
-  for (int i = 0; i < kLegs; ++i) feet[i] = R * (meas[i].r - com_);
-  if (n_stance > 0) {
-    const Status qp = force_qp_.solve(wrench, feet, stance, load, estimator_.ground_normal(), f_);
-    status = worst(status, qp);
-    out.qp_iterations = force_qp_.last_result().iterations;
-  } else {
-    f_.setZero();
-    out.qp_iterations = 0;
-  }
-  out.foot_force = f_;
-
-  // 9. Torques: stance legs push with -J^T f; the others swing (or reach down for the ground).
+  // 8. Swing legs (and stance legs still looking for the ground): foothold, swing, IK, joint PD.
+  // Their motors push back on the trunk: the abduction and hip-pitch torques beyond gravity
+  // compensation are a moment on the trunk that the stance feet must cancel (measured: the swing
+  // legs' reaction pitched the trunk ~1.2 deg each step at 0.5 m/s).
   const double t_swing = gait_.swing_duration(), t_stance = gait_.stance_duration();
+  Eigen::Vector3d swing_reaction = Eigen::Vector3d::Zero();  // trunk frame [N m]
   for (int i = 0; i < kLegs; ++i) {
+    if (stance[i]) continue;
     const Eigen::Vector3d q = in.q.segment<3>(3 * i), qd = in.qd.segment<3>(3 * i);
-    if (stance[i]) {
-      out.tau.segment<3>(3 * i) = tau_gravity[i] - J[i].transpose() * (R.transpose() * f_.segment<3>(3 * i));
-      late_time_[i] = 0.0;
-      was_stance_[i] = true;
-      continue;
-    }
     const LegGeometry& g = legs_[i].geometry();
     const LegPhase& ph = schedule[i];
     Eigen::Vector3d p_foot, v_foot;
@@ -365,8 +351,34 @@ Status QuadrupedController::run(const QuadrupedInput& in, QuadrupedOutput& out) 
     const Eigen::Matrix3d Jd = legs_[i].jacobian(q_des);
     Eigen::Vector3d qd_des = Eigen::Vector3d::Zero();
     if (std::abs(Jd.determinant()) > 1e-6) qd_des = Jd.partialPivLu().solve(v_rel);
-    out.tau.segment<3>(3 * i) = tau_gravity[i] + cfg_.swing_kp.cwiseProduct(q_des - (q + tau_d * qd)) +
-                                cfg_.swing_kd.cwiseProduct(qd_des - qd);
+    const Eigen::Vector3d tau_pd = cfg_.swing_kp.cwiseProduct(q_des - (q + tau_d * qd)) +
+                                   cfg_.swing_kd.cwiseProduct(qd_des - qd);
+    out.tau.segment<3>(3 * i) = tau_gravity[i] + tau_pd;
+    const double c0 = std::cos(q[0]), s0 = std::sin(q[0]);
+    swing_reaction += tau_pd[0] * Eigen::Vector3d::UnitX() + tau_pd[1] * Eigen::Vector3d(0, c0, s0);
+  }
+  if (cfg_.swing_reaction_feedforward) wrench.tail<3>() += R * swing_reaction;
+
+  // 9. Force distribution over the legs that are both scheduled and detected on the ground.
+  out.wrench = wrench;
+  std::array<Eigen::Vector3d, kLegs> feet;
+  for (int i = 0; i < kLegs; ++i) feet[i] = R * (meas[i].r - com_);
+  if (n_stance > 0) {
+    const Status qp = force_qp_.solve(wrench, feet, stance, load, estimator_.ground_normal(), f_);
+    status = worst(status, qp);
+    out.qp_iterations = force_qp_.last_result().iterations;
+  } else {
+    f_.setZero();
+    out.qp_iterations = 0;
+  }
+  out.foot_force = f_;
+
+  // 10. Stance legs push with -J^T f.
+  for (int i = 0; i < kLegs; ++i) {
+    if (!stance[i]) continue;
+    out.tau.segment<3>(3 * i) = tau_gravity[i] - J[i].transpose() * (R.transpose() * f_.segment<3>(3 * i));
+    late_time_[i] = 0.0;
+    was_stance_[i] = true;
   }
   saturate(out.tau, &status);
   tau_prev_ = out.tau;

@@ -46,6 +46,7 @@ struct QuadrupedConfig {
   double swing_height = 0.08;         // [m] apex above the line lift-off -> touch-down
   double raibert_gain = 0.15;         // [s] foothold shift per m/s of velocity error (~sqrt(h/g))
   double touchdown_depth = 0.01;      // [m] aim this far below the ground to make contact
+  bool swing_reaction_feedforward = true;  // stance forces also cancel the swing motors' reaction
   // [m] trunk-frame shift of all footholds from their nominal place: under the hips, moved along
   // x to the whole-robot CoM so that each diagonal support line passes through it.
   Eigen::Vector2d foothold_shift = Eigen::Vector2d::Zero();
@@ -56,6 +57,10 @@ struct QuadrupedConfig {
   Eigen::Vector3d swing_kp{20.0, 40.0, 20.0};  // [N m/rad] abduction, pitch, knee
   Eigen::Vector3d swing_kd{0.4, 0.8, 0.4};     // [N m s/rad]
   double max_acceleration = 1.0;      // [m/s^2] ramp on the commanded velocity
+  // [m] how far the horizontal position target may lead or trail the trunk: it integrates the
+  // velocity command (no steady velocity error), but after a push the robot should not walk back
+  // the whole way, only settle.
+  double max_position_lag = 0.05;
   // [s] known command-to-motor latency: feedback uses the state predicted this far ahead
   // (0 disables; SIL's default motor delay is 10 ms).
   double actuation_delay = 0.010;
