@@ -213,12 +213,14 @@ def quadruped_limits() -> dict:
 def _print_limits(limits: dict) -> None:
     trot, push = limits["trot"], limits["push"]
     print("Quadruped limits (scenario criteria, non-idealities on)")
-    print(f"  highest trot speed passing quadruped-trot   {trot['max_passing_speed']:.2f} m/s   (goal >= 1 m/s)")
+    seeds = ", ".join(str(k) for k in next(iter(trot["runs"].values()))["seeds"])
+    print(f"  highest trot speed passing quadruped-trot   {trot['max_passing_speed']:.2f} m/s   (goal >= 1 m/s; seeds {seeds})")
     for speed, r in trot["runs"].items():
         print(f"    {float(speed):5.2f} m/s  passed={r['passed']!s:<5}  fell={r['fell']:.0f}  "
-              f"roll/pitch RMS {r['roll_pitch_rms_deg']:.2f} deg  velocity RMS error {r['velocity_rms_error']:.3f} m/s")
-    print(f"  largest push passing quadruped-push         {push['max_recovered_impulse']:.1f} N s   (goal >= 12 N s)")
+              f"roll/pitch RMS {r['roll_pitch_rms_deg']:.2f} deg  velocity RMS error {r['velocity_rms_error']:.3f} m/s  (worst seed)")
+    seeds = ", ".join(str(k) for k in next(iter(push["runs"].values()))["seeds"])
+    print(f"  largest push passing quadruped-push         {push['max_recovered_impulse']:.1f} N s   (goal >= 12 N s; seeds {seeds})")
     print(f"  largest push survived (no fall)             {push['max_survived_impulse']:.1f} N s")
     for impulse, r in push["runs"].items():
         print(f"    {float(impulse):5.1f} N s  passed={r['passed']!s:<5}  fell={r['fell']:.0f}  "
-              f"roll peak {r['roll_peak_deg']:.2f} deg  roll after 0.8 s {r['roll_after_recovery_deg']:.2f} deg")
+              f"roll peak {r['roll_peak_deg']:.2f} deg  roll after 0.8 s {r['roll_after_recovery_deg']:.2f} deg  (worst seed)")
