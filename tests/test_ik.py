@@ -1,0 +1,89 @@
+"""IK through the Python API, cross-checked against KDL forward kinematics (kl.Dynamics)."""
+import numpy as np
+import pytest
+
+import kiloloop as kl
+
+
+@pytest.fixture(scope="module")
+def panda_model():
+    return kl.RobotModel.from_urdf(str(kl.models_dir() / "panda" / "panda.urdf"))
+
+
+def _random_q(model, rng):
+    lo, hi = np.maximum(model.lower, -np.pi), np.minimum(model.upper, np.pi)
+    return rng.uniform(lo, hi)
+
+
+def _pose_errors(T_target, T):
+    dp = np.linalg.norm(T_target[:3, 3] - T[:3, 3])
+    R = T_target[:3, :3] @ T[:3, :3].T
+    # atan2 of sin and cos: accurate near 0, where arccos of the trace loses half the digits.
+    s = 0.5 * np.linalg.norm([R[2, 1] - R[1, 2], R[0, 2] - R[2, 0], R[1, 0] - R[0, 1]])
+    return dp, float(np.arctan2(s, (np.trace(R) - 1) / 2))
+
+
+def test_ur_closed_form_gives_up_to_eight_solutions_that_kdl_confirms(ur5_model, rng):
+    ik, dyn = kl.UrAnalyticIk(ur5_model), kl.Dynamics(ur5_model)
+    for _ in range(50):
+        q_true, seed = _random_q(ur5_model, rng), _random_q(ur5_model, rng)
+        target = dyn.forward_kinematics(q_true)
+        sols, status = ik.solve(target, seed)
+        assert status == kl.Status.OK and 1 <= len(sols) <= 8
+        dist = np.linalg.norm(sols - seed, axis=1)
+        assert np.all(np.diff(dist) >= 0), "nearest to the seed first"
+        for q in sols:
+            dp, dr = _pose_errors(target, dyn.forward_kinematics(q))
+            assert dp < 1e-9 and dr < 1e-9
+
+
+@pytest.mark.parametrize("robot", ["ur5", "panda"])
+def test_arm_ik_reaches_random_poses_within_tolerance_and_limits(robot, ur5_model, panda_model, rng):
+    model = ur5_model if robot == "ur5" else panda_model
+    ik, dyn = kl.ArmIk(model), kl.Dynamics(model)
+    assert ik.has_analytic == (robot == "ur5")
+    ok = 0
+    for _ in range(200):
+        target = dyn.forward_kinematics(_random_q(model, rng))
+        q, status = ik.solve(target, _random_q(model, rng))
+        assert np.all(np.isfinite(q)) and np.all(q >= model.lower) and np.all(q <= model.upper)
+        dp, dr = _pose_errors(target, dyn.forward_kinematics(q))
+        within = dp <= 1e-6 and dr <= 1e-6
+        assert within == (status == kl.Status.OK)
+        ok += within
+    assert ok >= 198
+
+
+def test_position_only_weights(panda_model, rng):
+    config = kl.ArmIkConfig()
+    config.numeric.weights = np.array([1.0, 1.0, 1.0, 0.0, 0.0, 0.0])
+    ik, dyn = kl.ArmIk(panda_model, config), kl.Dynamics(panda_model)
+    target = dyn.forward_kinematics(_random_q(panda_model, rng))
+    target[:3, :3] = np.eye(3)
+    q, status = ik.solve(target, _random_q(panda_model, rng))
+    assert status == kl.Status.OK
+    assert np.linalg.norm(dyn.forward_kinematics(q)[:3, 3] - target[:3, 3]) < 1e-6
+
+
+def test_bad_input(ur5_model, panda_model):
+    ik = kl.ArmIk(panda_model)
+    with pytest.raises(ValueError, match="seed"):
+        ik.solve(np.eye(4), np.zeros(6))
+    with pytest.raises(ValueError, match="target"):
+        bad = np.eye(4)
+        bad[3, 0] = 1.0
+        ik.solve(bad, np.zeros(7))
+    nan = np.eye(4)
+    nan[0, 3] = np.nan
+    q, status = ik.solve(nan, np.zeros(7))
+    assert status == kl.Status.NON_FINITE_REFERENCE and np.all(np.isfinite(q))
+    far = np.eye(4)
+    far[:3, 3] = [3.0, 0.0, 0.3]
+    q, status = ik.solve(far, np.full(7, -0.1))
+    assert status == kl.Status.ITERATION_LIMIT and np.all(np.isfinite(q))
+    with pytest.raises(ValueError, match="UR analytic IK"):
+        kl.UrAnalyticIk(panda_model)
+    config = kl.ArmIkConfig()
+    config.numeric.max_iterations = 0
+    with pytest.raises(ValueError, match="max_iterations"):
+        kl.ArmIk(ur5_model, config)
