@@ -87,3 +87,17 @@ def test_bad_input(ur5_model, panda_model):
     config.numeric.max_iterations = 0
     with pytest.raises(ValueError, match="max_iterations"):
         kl.ArmIk(ur5_model, config)
+
+
+def test_ik_bench_runs_and_ours_never_allocates():
+    from kiloloop.bench.ik_bench import run_ik_bench
+
+    r = run_ik_bench(poses=200)
+    for robot in r["robots"]:
+        names = [s["name"] for s in robot["solvers"]]
+        assert any("KDL ChainIkSolverPos_LMA" in n for n in names)
+        assert any("KDL ChainIkSolverPos_NR_JL" in n for n in names)
+        for s in robot["solvers"]:
+            if s["name"].startswith("kiloloop"):
+                assert s["allocations_per_call"] == 0, s["name"]
+                assert s["success_rate"] >= 0.98, s
