@@ -82,6 +82,12 @@ Status ChainKinematics::configure(const RobotModel& model, ChainKinematics* out,
     return Status::kModelError;
   }
   k.joints_.back().post = k.joints_.back().post * pending;
+  // Fold each joint's `pre` (a pure translation to its axis point) into what comes before it,
+  // so that a tick costs one rotation and one rigid product per joint.
+  k.base_ = k.base_ * k.joints_.front().pre;
+  for (std::size_t i = 0; i + 1 < k.joints_.size(); ++i)
+    k.joints_[i].post = k.joints_[i].post * k.joints_[i + 1].pre;
+  for (Joint& j : k.joints_) j.pre = Eigen::Isometry3d::Identity();
   k.nq_ = static_cast<int>(k.joints_.size());
   if (k.nq_ != model.nq()) {
     if (why) *why = "ChainKinematics: joint count differs from the model's";
@@ -93,23 +99,19 @@ Status ChainKinematics::configure(const RobotModel& model, ChainKinematics* out,
   return Status::kOk;
 }
 
-Eigen::Isometry3d ChainKinematics::motion(const Joint& j, double q) noexcept {
-  Eigen::Isometry3d M = Eigen::Isometry3d::Identity();
+void ChainKinematics::apply(const Joint& j, double q, Eigen::Isometry3d& T) noexcept {
   if (j.prismatic) {
-    M.translation() = j.axis * q;
+    T.translation() += T.linear() * (j.axis * q);
   } else {
-    M.linear() = Eigen::AngleAxisd(q, j.axis).toRotationMatrix();
+    T.linear() = T.linear() * Eigen::AngleAxisd(q, j.axis).toRotationMatrix();
   }
-  return M;
+  T = T * j.post;
 }
 
 void ChainKinematics::forward(const Eigen::Ref<const Eigen::VectorXd>& q,
                               Eigen::Isometry3d& T) noexcept {
   T = base_;
-  for (int i = 0; i < nq_; ++i) {
-    const Joint& j = joints_[i];
-    T = T * j.pre * motion(j, q[i]) * j.post;
-  }
+  for (int i = 0; i < nq_; ++i) apply(joints_[i], q[i], T);
 }
 
 void ChainKinematics::forward_jacobian(const Eigen::Ref<const Eigen::VectorXd>& q,
@@ -117,11 +119,10 @@ void ChainKinematics::forward_jacobian(const Eigen::Ref<const Eigen::VectorXd>& 
   T = base_;
   for (int i = 0; i < nq_; ++i) {
     const Joint& j = joints_[i];
-    T = T * j.pre;
     // The joint axis and a point on it, in the root frame, before the joint moves.
     axes_.col(i) = T.linear() * j.axis;
     points_.col(i) = T.translation();
-    T = T * motion(j, q[i]) * j.post;
+    apply(j, q[i], T);
   }
   const Eigen::Vector3d tip = T.translation();
   for (int i = 0; i < nq_; ++i) {

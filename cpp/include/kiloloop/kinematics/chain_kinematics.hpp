@@ -38,12 +38,13 @@ class ChainKinematics {
 
  private:
   struct Joint {
-    Eigen::Isometry3d pre = Eigen::Isometry3d::Identity();   // previous joint frame -> this joint
+    Eigen::Isometry3d pre = Eigen::Isometry3d::Identity();   // configure only: to the axis point
     Eigen::Vector3d axis = Eigen::Vector3d::UnitZ();         // unit axis in the joint frame
-    Eigen::Isometry3d post = Eigen::Isometry3d::Identity();  // after the joint motion -> next
+    Eigen::Isometry3d post = Eigen::Isometry3d::Identity();  // after the joint motion -> next joint
     bool prismatic = false;
   };
-  static Eigen::Isometry3d motion(const Joint& j, double q) noexcept;
+  // T <- T * motion(q) * post.
+  static void apply(const Joint& j, double q, Eigen::Isometry3d& T) noexcept;
 
   int nq_ = 0;
   std::vector<Joint> joints_;
