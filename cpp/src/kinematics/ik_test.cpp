@@ -183,6 +183,37 @@ TEST(NumericIk, UrNumericOnlyAndWithAnalyticSeed) {
   EXPECT_GE(solve_random(model, numeric, 31, 500).success, 495);
 }
 
+// Targets on the UR5's singular sets (wrist q5 = 0, stretched elbow q3 = 0, both) from nearby
+// seeds: Gauss-Newton steps blow up there; the adaptive damping keeps LM converging.
+TEST(NumericIk, ConvergesOnSingularUrTargets) {
+  const RobotModelPtr model = testing::load_ur5();
+  std::string why;
+  ArmIkConfig cfg;
+  for (bool analytic : {true, false}) {
+    cfg.use_analytic = analytic;
+    ArmIk ik;
+    ChainKinematics kin;
+    ASSERT_EQ(ArmIk::configure(cfg, *model, &ik, &why), Status::kOk);
+    ASSERT_EQ(ChainKinematics::configure(*model, &kin, &why), Status::kOk);
+    std::mt19937 rng(59);
+    std::normal_distribution<double> noise(0.0, 0.3);
+    Eigen::VectorXd q(6);
+    for (int k = 0; k < 300; ++k) {
+      Eigen::VectorXd q_true = random_in_limits(*model, rng);
+      if (k % 3 != 1) q_true[4] = 0.0;
+      if (k % 3 != 0) q_true[2] = 0.0;
+      Eigen::VectorXd seed = q_true;
+      for (int i = 0; i < 6; ++i) seed[i] += noise(rng);
+      const Eigen::Isometry3d target = fk(kin, q_true);
+      EXPECT_EQ(ik.solve(target, seed, q), Status::kOk)
+          << "seed 59 k " << k << (analytic ? " analytic" : " numeric");
+      const Vector6d e = pose_error(target, fk(kin, q));
+      EXPECT_LE(e.head<3>().norm(), 1e-6);
+      EXPECT_LE(e.tail<3>().norm(), 1e-6);
+    }
+  }
+}
+
 TEST(NumericIk, TaskWeightsFreeTheOrientation) {
   const RobotModelPtr model = load_panda();
   NumericIkConfig cfg;
