@@ -23,7 +23,9 @@
 #include <kdl/chainiksolvervel_pinv.hpp>
 
 #include "alloc_counter.hpp"
+#include "kiloloop/arm/cartesian_tracking.hpp"
 #include "kiloloop/kinematics/arm_ik.hpp"
+#include "kiloloop/trajectory/cartesian_line.hpp"
 #include "kiloloop/rt/latency_stats.hpp"
 #include "kiloloop/urdf/urdf_loader.hpp"
 
@@ -176,6 +178,90 @@ RobotReport bench_robot(const std::string& name, const std::string& urdf, long n
   return rep;
 }
 
+struct StepLatency {
+  std::string name;
+  LatencySummary summary;
+  double allocations_per_call = 0.0;
+  long failures = 0;
+};
+
+// The 1 kHz path of arm-line on the UR5: CartesianLine::sample + CartesianTrackingController::step
+// (differential IK + computed torque), the measured state following the reference (open loop),
+// and the UR closed form alone.
+std::vector<StepLatency> bench_steps(const std::string& urdf, long n) {
+  auto model = std::make_shared<RobotModel>();
+  std::string why;
+  model_from_urdf_file(urdf, "", "", model.get(), &why);
+  CartesianTrackingController c;
+  CartesianTrackingController::configure(CartesianTrackingConfig{}, model, &c, &why);
+  ChainKinematics kin;
+  ChainKinematics::configure(*model, &kin, &why);
+  Eigen::VectorXd q0(6);
+  q0 << 0.0, -kPi / 2, kPi / 2, -kPi / 2, -kPi / 2, 0.0;
+  Eigen::Isometry3d a, b;
+  kin.forward(q0, a);
+  b = a;
+  b.translation() += Eigen::Vector3d(0.15, 0.2, -0.15);
+  b.linear() = Eigen::AngleAxisd(0.6, Eigen::Vector3d(0, 0.6, 0.8)).toRotationMatrix() * a.linear();
+  CartesianLine line;
+  CartesianLine::configure(a, b, 0.0, n * 1e-3, &line, &why);
+  CartesianTrackingInput in = c.make_input();
+  CartesianTrackingOutput out = c.make_output();
+  in.q = q0;
+  std::vector<StepLatency> res;
+  {
+    LatencyStats stats(n);
+    StepLatency r{"CartesianLine.sample + CartesianTrackingController.step", {}, 0.0, 0};
+    testing::AllocationScope scope;
+    for (long k = 0; k < n; ++k) {
+      const auto t0 = Clock::now();
+      in.t = in.stamp = k * 1e-3;
+      Eigen::Isometry3d T;
+      Vector6d acc;
+      line.sample(in.t, T, in.twist_ref, acc);
+      in.pose_ref = T.matrix();
+      const Status s = c.step(in, out);
+      const auto t1 = Clock::now();
+      stats.record(std::chrono::duration_cast<std::chrono::nanoseconds>(t1 - t0).count());
+      r.failures += failed(s);
+      in.q = out.q_ref;  // the arm follows its reference
+      in.qd = out.qd_ref;
+    }
+    r.allocations_per_call = double(scope.count()) / n;
+    r.summary = stats.summarize();
+    res.push_back(r);
+  }
+  {
+    UrAnalyticIk ik;
+    UrAnalyticIk::from_model(*model, &ik, &why);
+    std::mt19937 rng(kSeed + 1);
+    std::vector<Eigen::Isometry3d> targets;
+    std::vector<Eigen::Matrix<double, 6, 1>> seeds;
+    for (int k = 0; k < 1024; ++k) {
+      Eigen::Isometry3d T;
+      kin.forward(random_in_limits(*model, rng), T);
+      targets.push_back(T);
+      seeds.push_back(random_in_limits(*model, rng));
+    }
+    LatencyStats stats(n);
+    StepLatency r{"UrAnalyticIk.solve (all solutions)", {}, 0.0, 0};
+    UrAnalyticIk::Solutions sols;
+    int count = 0;
+    testing::AllocationScope scope;
+    for (long k = 0; k < n; ++k) {
+      const auto t0 = Clock::now();
+      const Status s = ik.solve(targets[k % 1024], seeds[k % 1024], sols, &count);
+      const auto t1 = Clock::now();
+      stats.record(std::chrono::duration_cast<std::chrono::nanoseconds>(t1 - t0).count());
+      r.failures += failed(s);
+    }
+    r.allocations_per_call = double(scope.count()) / n;
+    r.summary = stats.summarize();
+    res.push_back(r);
+  }
+  return res;
+}
+
 std::string cpu_model() {
   std::ifstream f("/proc/cpuinfo");
   for (std::string line; std::getline(f, line);)
@@ -200,6 +286,7 @@ int main(int argc, char** argv) {
   std::vector<RobotReport> reps;
   reps.push_back(bench_robot("ur5", argv[1], n));
   reps.push_back(bench_robot("7dof", argv[2], n));
+  const std::vector<StepLatency> steps = bench_steps(argv[1], std::max(2L * n, 2000L));
   if (json) {
     std::printf("{\"cpu\": \"%s\", \"seed\": %u, \"position_tolerance\": %g, \"orientation_tolerance\": %g, \"robots\": [",
                 cpu_model().c_str(), kSeed, kPosTol, kRotTol);
@@ -217,6 +304,14 @@ int main(int argc, char** argv) {
       }
       std::printf("]}");
     }
+    std::printf("], \"step_latency\": [");
+    for (std::size_t j = 0; j < steps.size(); ++j) {
+      const StepLatency& st = steps[j];
+      std::printf("%s{\"name\": \"%s\", \"calls\": %zu, \"median_us\": %.3f, \"p99_us\": %.3f, "
+                  "\"max_us\": %.3f, \"allocations_per_call\": %.3f, \"failures\": %ld}",
+                  j ? ", " : "", st.name.c_str(), st.summary.count, st.summary.median_ns * 1e-3,
+                  st.summary.p99_ns * 1e-3, st.summary.max_ns * 1e-3, st.allocations_per_call, st.failures);
+    }
     std::printf("]}\n");
     return 0;
   }
@@ -232,5 +327,9 @@ int main(int argc, char** argv) {
                   s->summary.median_ns * 1e-3, s->summary.p99_ns * 1e-3,
                   double(s->allocations) / rep.poses);
   }
+  std::printf("UR5 1 kHz path\n  %-56s %10s %10s %7s\n", "call", "median us", "p99 us", "alloc");
+  for (const StepLatency& st : steps)
+    std::printf("  %-56s %10.2f %10.2f %7.2f\n", st.name.c_str(), st.summary.median_ns * 1e-3,
+                st.summary.p99_ns * 1e-3, st.allocations_per_call);
   return 0;
 }

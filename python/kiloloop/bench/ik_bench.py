@@ -35,3 +35,7 @@ def print_ik_bench(r: dict) -> None:
             print(f"    {s['name']:<32}{100 * s['success_rate']:>8.2f}%{100 * s['pose_ok'] / robot['poses']:>10.2f}%"
                   f"{s['median_us']:>11.2f}{s['p99_us']:>10.2f}{s['allocations_per_call']:>7.2f}")
     print("  goal: >= 99.5 % success and faster than both KDL solvers; pose-only ignores the limits")
+    print("  UR5 1 kHz path (C++)")
+    print(f"    {'call':<58}{'median us':>11}{'p99 us':>10}{'alloc':>7}")
+    for s in r.get("step_latency", []):
+        print(f"    {s['name']:<58}{s['median_us']:>11.2f}{s['p99_us']:>10.2f}{s['allocations_per_call']:>7.2f}")
