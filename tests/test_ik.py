@@ -101,3 +101,24 @@ def test_ik_bench_runs_and_ours_never_allocates():
             if s["name"].startswith("kiloloop"):
                 assert s["allocations_per_call"] == 0, s["name"]
                 assert s["success_rate"] >= 0.98, s
+
+
+def test_panda_model_is_frankas_published_modified_dh(panda_model, rng):
+    # Franka's documentation: modified DH (a_{i-1}, d_i, alpha_{i-1}); flange d = 0.107 m.
+    a = [0, 0, 0, 0.0825, -0.0825, 0, 0.088]
+    d = [0.333, 0, 0.316, 0, 0.384, 0, 0]
+    alpha = [0, -np.pi / 2, np.pi / 2, np.pi / 2, -np.pi / 2, np.pi / 2, np.pi / 2]
+
+    def mdh(a_, alpha_, d_, theta):
+        ca, sa, ct, st = np.cos(alpha_), np.sin(alpha_), np.cos(theta), np.sin(theta)
+        return np.array([[ct, -st, 0, a_], [st * ca, ct * ca, -sa, -d_ * sa],
+                         [st * sa, ct * sa, ca, d_ * ca], [0, 0, 0, 1]])
+
+    dyn = kl.Dynamics(panda_model)
+    for _ in range(20):
+        q = _random_q(panda_model, rng)
+        T = np.eye(4)
+        for i in range(7):
+            T = T @ mdh(a[i], alpha[i], d[i], q[i])
+        T = T @ mdh(0, 0, 0.107, 0)
+        assert np.abs(dyn.forward_kinematics(q) - T).max() < 1e-12
