@@ -33,6 +33,18 @@ def test_end_effector_ends_on_the_line_end(default_run):
     assert np.linalg.norm(log["ee"][-1] - end[:3, 3]) < 2e-4
 
 
+def test_one_tick_delay_still_within_a_millimetre(default_run):
+    r = run(delay_ticks=1)
+    assert r.passed and r.metrics["failed_ticks"] == 0
+    assert r.metrics["max_ee_error_m"] > default_run.metrics["max_ee_error_m"]
+
+
+def test_clik_feedback_removes_the_integration_drift(default_run):
+    # K = 0 integrates J^+ v open loop: the joint reference drifts off the line.
+    r = run(task_gain=0.0)
+    assert r.metrics["max_ik_reference_error_m"] > 10 * default_run.metrics["max_ik_reference_error_m"]
+
+
 def test_line_sampling_is_a_straight_line_with_fixed_axis_rotation(ur5_model):
     q0 = np.array([0.0, -1.5707963267948966, 1.5707963267948966, -1.5707963267948966,
                    -1.5707963267948966, 0.0])
