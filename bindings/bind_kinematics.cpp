@@ -32,6 +32,7 @@ void bind_kinematics(py::module_& m) {
       .def(py::init<>())
       .def_readwrite("numeric", &ArmIkConfig::numeric)
       .def_readwrite("use_analytic", &ArmIkConfig::use_analytic)
+      .def_readwrite("analytic_tolerance", &ArmIkConfig::analytic_tolerance, "[m, rad]")
       .def_readwrite("refine_iterations", &ArmIkConfig::refine_iterations);
 
   py::class_<IkReport>(m, "IkReport")
@@ -51,6 +52,7 @@ void bind_kinematics(py::module_& m) {
            py::arg("model"), py::arg("config") = py::none())
       .def_property_readonly("nq", &ArmIk::nq)
       .def_property_readonly("has_analytic", &ArmIk::has_analytic)
+      .def_property_readonly("analytic_deviation", &ArmIk::analytic_deviation, "[m, rad]")
       .def_property_readonly("report", &ArmIk::report)
       .def("solve",
            [](ArmIk& ik, const Eigen::Matrix4d& target, const Array& seed) {

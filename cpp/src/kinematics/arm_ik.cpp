@@ -3,6 +3,10 @@
 namespace kiloloop {
 
 Status validate(const ArmIkConfig& c, std::string* why) {
+  if (!(c.analytic_tolerance >= 0.0)) {
+    if (why) *why = "analytic_tolerance must be >= 0";
+    return Status::kInvalidConfig;
+  }
   if (c.refine_iterations < 0) {
     if (why) *why = "refine_iterations must be >= 0";
     return Status::kInvalidConfig;
@@ -21,7 +25,8 @@ Status ArmIk::configure(const ArmIkConfig& config, const RobotModel& model, ArmI
   // Not UR-shaped is not an error: the numeric solver covers any chain.
   std::string ignored;
   ik.has_analytic_ = config.use_analytic &&
-                     UrAnalyticIk::from_model(model, &ik.analytic_, &ignored) == Status::kOk;
+                     UrAnalyticIk::from_model(model, &ik.analytic_, &ignored,
+                                                   config.analytic_tolerance) == Status::kOk;
   *out = std::move(ik);
   return Status::kOk;
 }

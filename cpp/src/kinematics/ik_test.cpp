@@ -3,6 +3,8 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <fstream>
+#include <iterator>
 #include <random>
 
 #include <gtest/gtest.h>
@@ -212,6 +214,57 @@ TEST(NumericIk, ConvergesOnSingularUrTargets) {
       EXPECT_LE(e.tail<3>().norm(), 1e-6);
     }
   }
+}
+
+// A UR5 whose joint origins are off by a millimetre and a few milliradians (as after a
+// calibration): no longer exactly UR, so the closed form only seeds; LM refines to 1e-6.
+TEST(ArmIk, AnalyticSeedPlusRefinementOnANearlyUrChain) {
+  std::ifstream f(testing::ur5_urdf_path());
+  std::string xml((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
+  const std::pair<const char*, const char*> edits[] = {
+      {"<origin xyz=\"-0.425 0 0\" rpy=\"0 0 0\"/>",
+       "<origin xyz=\"-0.4242 0.0006 0.0007\" rpy=\"0.002 -0.003 0.001\"/>"},
+      {"<origin xyz=\"-0.39225 0 0\" rpy=\"0 0 0\"/>",
+       "<origin xyz=\"-0.3930 -0.0004 0.0005\" rpy=\"0.001 0.002 -0.002\"/>"},
+      {"<origin xyz=\"0 0 0.0823\" rpy=\"0 0 0\"/>", "<origin xyz=\"0.0005 0 0.0831\" rpy=\"0 0.002 0\"/>"}};
+  for (const auto& [from, to] : edits) {
+    const auto pos = xml.find(from);
+    ASSERT_NE(pos, std::string::npos) << from;
+    xml.replace(pos, std::strlen(from), to);
+  }
+  auto model = std::make_shared<RobotModel>();
+  std::string why;
+  ASSERT_EQ(model_from_urdf_string(xml, "", "", model.get(), &why), Status::kOk) << why;
+  UrAnalyticIk exact;
+  EXPECT_EQ(UrAnalyticIk::from_model(*model, &exact, &why), Status::kModelError);
+  ArmIk hybrid, numeric;
+  ArmIkConfig cfg;
+  ASSERT_EQ(ArmIk::configure(cfg, *model, &hybrid, &why), Status::kOk);
+  ASSERT_TRUE(hybrid.has_analytic());
+  EXPECT_GT(hybrid.analytic_deviation(), 1e-4);
+  EXPECT_LT(hybrid.analytic_deviation(), 1e-2);
+  cfg.use_analytic = false;
+  ASSERT_EQ(ArmIk::configure(cfg, *model, &numeric, &why), Status::kOk);
+  ChainKinematics kin;
+  ASSERT_EQ(ChainKinematics::configure(*model, &kin, &why), Status::kOk);
+  std::mt19937 rng(61);
+  Eigen::VectorXd q(6);
+  long hybrid_iterations = 0, numeric_iterations = 0;
+  for (int k = 0; k < 300; ++k) {
+    const Eigen::Isometry3d target = fk(kin, random_in_limits(*model, rng));
+    const Eigen::VectorXd seed = random_in_limits(*model, rng);
+    ASSERT_EQ(hybrid.solve(target, seed, q), Status::kOk) << "seed 61 k " << k;
+    hybrid_iterations += hybrid.report().iterations;
+    EXPECT_GT(hybrid.report().iterations, 0);  // the closed form alone is not within 1e-6
+    const Vector6d e = pose_error(target, fk(kin, q));
+    EXPECT_LE(e.head<3>().norm(), 1e-6);
+    EXPECT_LE(e.tail<3>().norm(), 1e-6);
+    numeric.solve(target, seed, q);
+    numeric_iterations += numeric.report().iterations;
+  }
+  std::printf("seed 61: mean LM iterations, analytic seed %.2f vs numeric only %.2f\n",
+              hybrid_iterations / 300.0, numeric_iterations / 300.0);
+  EXPECT_LT(hybrid_iterations * 3, numeric_iterations);
 }
 
 TEST(NumericIk, TaskWeightsFreeTheOrientation) {

@@ -1,6 +1,7 @@
 #include "kiloloop/kinematics/ur_analytic_ik.hpp"
 
 #include <algorithm>
+#include <string>
 #include <cmath>
 #include <random>
 
@@ -81,7 +82,8 @@ Status UrAnalyticIk::configure(const UrDhParameters& p, const Eigen::Isometry3d&
   return Status::kOk;
 }
 
-Status UrAnalyticIk::from_model(const RobotModel& model, UrAnalyticIk* out, std::string* why) {
+Status UrAnalyticIk::from_model(const RobotModel& model, UrAnalyticIk* out, std::string* why,
+                                double tolerance) {
   if (!model.has_chain() || model.nq() != 6) {
     if (why) *why = "UR analytic IK needs a 6-joint serial chain";
     return Status::kModelError;
@@ -129,17 +131,22 @@ Status UrAnalyticIk::from_model(const RobotModel& model, UrAnalyticIk* out, std:
   if (failed(s)) return s;
   std::mt19937 rng(5);
   std::uniform_real_distribution<double> u(-kPi, kPi);
+  double deviation = 0.0;
   for (int k = 0; k < 20; ++k) {
     Eigen::Matrix<double, 6, 1> q;
     for (int i = 0; i < 6; ++i) q[i] = u(rng);
     Eigen::Isometry3d Tm;
     kin.forward(q, Tm);
-    const Eigen::Isometry3d Ta = base * ik.forward(q);
-    if ((Tm.matrix() - Ta.matrix()).cwiseAbs().maxCoeff() > 1e-9) {
-      if (why) *why = "UR analytic IK: the chain's kinematics are not UR standard DH";
-      return Status::kModelError;
-    }
+    const Vector6d e = pose_error(Tm, base * ik.forward(q));
+    deviation = std::max({deviation, e.head<3>().norm(), e.tail<3>().norm()});
   }
+  if (!(deviation <= tolerance)) {
+    if (why)
+      *why = "UR analytic IK: the chain's kinematics are not UR standard DH (deviation " +
+             std::to_string(deviation) + " m/rad)";
+    return Status::kModelError;
+  }
+  ik.deviation_ = deviation;
   *out = ik;
   return Status::kOk;
 }

@@ -14,6 +14,9 @@ namespace kiloloop {
 struct ArmIkConfig {
   NumericIkConfig numeric;     // tolerances, weights, budget of the numeric stage
   bool use_analytic = true;    // use the closed form when the chain has one
+  // Largest deviation [m, rad] of the chain's FK from ideal UR geometry for which the closed
+  // form is still used, as a seed (exact chains deviate by ~1e-15).
+  double analytic_tolerance = 0.01;
   int refine_iterations = 10;  // numeric budget per analytic candidate
 };
 
@@ -27,6 +30,8 @@ class ArmIk {
 
   int nq() const { return numeric_.nq(); }
   bool has_analytic() const { return has_analytic_; }
+  // FK deviation of the chain from the closed form [m, rad] (0 without one).
+  double analytic_deviation() const { return has_analytic_ ? analytic_.deviation() : 0.0; }
   // Statuses as NumericIk::solve. report().iterations counts numeric iterations only.
   Status solve(const Eigen::Isometry3d& target, const Eigen::Ref<const Eigen::VectorXd>& seed,
                Eigen::Ref<Eigen::VectorXd> q) noexcept;

@@ -42,10 +42,15 @@ class UrAnalyticIk {
                           std::string* why);
   // Reads the DH parameters off a model whose chain is written as UR standard DH (models/ur5:
   // link i frame = DH frame i-1 rotated by q_i), then checks FK against the model's own chain at
-  // seeded random configurations; kModelError with the reason when the chain is not UR-shaped.
-  static Status from_model(const RobotModel& model, UrAnalyticIk* out, std::string* why);
+  // seeded random configurations; kModelError with the reason when it deviates by more than
+  // `tolerance` [m and rad]. A loose tolerance accepts a nearly-UR chain (e.g. a calibrated arm)
+  // whose closed-form solutions are then only seeds, to be refined numerically (ArmIk).
+  static Status from_model(const RobotModel& model, UrAnalyticIk* out, std::string* why,
+                           double tolerance = 1e-9);
 
   const UrDhParameters& parameters() const { return dh_; }
+  // Largest FK deviation of the model's chain from this closed form seen by from_model [m, rad].
+  double deviation() const { return deviation_; }
   // T_root_tool0 at q (6), the closed-form standard-DH product.
   Eigen::Isometry3d forward(const Eigen::Matrix<double, 6, 1>& q) const noexcept;
 
@@ -60,6 +65,7 @@ class UrAnalyticIk {
   UrDhParameters dh_;
   Eigen::Isometry3d base_inv_ = Eigen::Isometry3d::Identity();
   Eigen::Matrix<double, 6, 1> lower_, upper_;
+  double deviation_ = 0.0;
 };
 
 }  // namespace kiloloop
