@@ -1,18 +1,20 @@
 #pragma once
 // Numeric inverse kinematics for any serial chain: Levenberg-Marquardt on the weighted pose
-// error, projected onto the joint limits, with a fixed iteration budget (deterministic: no
-// wall-clock stopping, restarts from a fixed quasi-random sequence).
+// error within the joint limits, with a fixed iteration budget (deterministic: no wall-clock
+// stopping, restarts from a fixed quasi-random sequence).
 //
-//   e = W^(1/2) [p_target - p(q); log(R_target R(q)^T)]          (6)  [m; rad]
-//   (J^T W J + lambda I) dq = J^T W e,   q <- clamp(q + dq, lower, upper)
-//   lambda = mu (E + lambda_floor),  E = e^T W e
+//   e = [p_target - p(q); log(R_target R(q)^T)]      (6) [m; rad], W = diag(weights)
+//   (J^T W J + lambda I) dq = J^T W e,   lambda = mu (E + lambda_floor),   E = e^T W e
 // The damping follows the error (Sugihara 2011: large far from the target, vanishing at it, so
 // convergence is quadratic) and mu adapts as in Marquardt's method: halved after a step that
 // lowers E, quadrupled after one that does not. Near a singularity Gauss-Newton steps are large
-// and fail, so the damping rises exactly where it is needed. A solve succeeds when the position
-// and the orientation errors are within their own tolerances (components with weight 0 are
-// free). After `restart_after` iterations without success it restarts from the next point of a
-// Halton sequence over the joint range; the best iterate is kept.
+// and fail, so the damping rises exactly where it is needed. Joint limits form an active set
+// inside the step: a joint whose step would cross its limit is held at the limit and the others
+// re-solve (clamping the full step instead is not a descent direction and stalls at limits).
+// A solve succeeds when the position and the orientation errors are within their own
+// tolerances (components with weight 0 are free). After `restart_after` iterations without
+// success it restarts from the next point of a Halton sequence over the joint range; the best
+// iterate is kept.
 //
 // configure() sizes every buffer; solve() is noexcept and allocation-free.
 #include <string>
