@@ -118,6 +118,52 @@ TEST(CartesianTracking, FollowsTheLineInClosedLoopWithoutAllocating) {
   EXPECT_LT(out.task_error.norm(), 1e-9);  // at rest at the end, the reference is exact
 }
 
+// A straight line whose ends lie on either side of the wrist singularity (q5 = -0.4 -> +0.4):
+// exact tracking would need unbounded wrist speed. The reference stays within the velocity
+// limits (status kSaturated while it cannot keep up), never NaN, and reaches the end pose
+// (on the other wrist branch) once the line has ended.
+TEST(CartesianTracking, ThroughTheWristSingularityStaysBoundedAndArrives) {
+  const RobotModelPtr model = testing::load_ur5();
+  ChainKinematics kin;
+  std::string why;
+  ASSERT_EQ(ChainKinematics::configure(*model, &kin, &why), Status::kOk);
+  Eigen::VectorXd qa(6), qb(6);
+  qa << 0.0, -1.2, 1.5, -1.9, -0.4, 0.3;
+  qb = qa;
+  qb[0] = 0.1;
+  qb[4] = 0.4;
+  Eigen::Isometry3d Ta, Tb;
+  kin.forward(qa, Ta);
+  kin.forward(qb, Tb);
+  CartesianLine line;
+  ASSERT_EQ(CartesianLine::configure(Ta, Tb, 0.0, 1.0, &line, &why), Status::kOk);
+  CartesianTrackingController c;
+  ASSERT_EQ(CartesianTrackingController::configure(CartesianTrackingConfig{}, model, &c, &why), Status::kOk);
+  CartesianTrackingInput in = c.make_input();
+  CartesianTrackingOutput out = c.make_output();
+  in.q = qa;
+  int saturated = 0;
+  double min_w = 1e9;
+  for (int k = 0; k < 6000; ++k) {
+    in.t = in.stamp = k * 1e-3;
+    Eigen::Isometry3d T;
+    Vector6d a;
+    line.sample(in.t, T, in.twist_ref, a);
+    in.pose_ref = T.matrix();
+    const Status s = c.step(in, out);
+    ASSERT_TRUE(ok(s)) << "tick " << k;
+    saturated += s == Status::kSaturated;
+    ASSERT_TRUE(out.tau.allFinite() && out.q_ref.allFinite());
+    ASSERT_TRUE((out.qd_ref.cwiseAbs().array() <= model->velocity_limit().array() + 1e-12).all());
+    min_w = std::min(min_w, out.manipulability);
+    in.q = out.q_ref;  // an arm that follows its reference exactly
+    in.qd = out.qd_ref;
+  }
+  EXPECT_GT(saturated, 100);       // it could not keep up near the singularity
+  EXPECT_LT(min_w, 1e-3);          // and went close to it (damped there)
+  EXPECT_LT(out.task_error.norm(), 1e-9);  // then arrived
+}
+
 TEST(CartesianTracking, DeterministicAndSafeOnBadInput) {
   const RobotModelPtr model = testing::load_ur5();
   const CartesianLine line = make_line(*model, 0.0, 1.0);
