@@ -7,10 +7,8 @@
 namespace kiloloop {
 
 Eigen::VectorXd KinematicParameters::pack() const {
-  const int n = nq();
   Eigen::VectorXd x(size());
   x << base_position, base_rotation, alpha, a, beta, theta, d, tool;
-  (void)n;
   return x;
 }
 
