@@ -46,5 +46,8 @@ void bind_trajectory(py::module_& m);
 void bind_control(py::module_& m);
 void bind_quadruped(py::module_& m);
 void bind_qp(py::module_& m);
+void bind_kinematics(py::module_& m);
+void bind_arm(py::module_& m);
+void bind_calibration(py::module_& m);
 
 }  // namespace kiloloop::py_glue

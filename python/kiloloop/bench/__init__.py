@@ -182,9 +182,15 @@ def run_benchmarks(quick: bool = False, as_json: bool = False) -> int:
     quadruped = quadruped_sil_benchmark(quick)
     qp = run_qp_bench(quick)
     limits = None if quick else quadruped_limits()
+    from .calibration_bench import print_calibration_bench, run_calibration_bench
+    from .ik_bench import print_ik_bench, run_ik_bench
+
+    ik = run_ik_bench(quick)
+    calibration = run_calibration_bench()
     report = {"python": sys.version.split()[0], "platform": platform.platform(),
               "mujoco": mujoco.__version__, "kiloloop": kl.__version__, "core": core, "sil": sil,
-              "quadruped_sil": quadruped, "qp": qp, "quadruped_limits": limits}
+              "quadruped_sil": quadruped, "qp": qp, "quadruped_limits": limits, "ik": ik,
+              "calibration": calibration}
     if as_json:
         # numpy scalars (from the peers' results) print as plain numbers
         print(json.dumps(report, default=lambda o: o.item() if hasattr(o, "item") else str(o)))
@@ -199,6 +205,10 @@ def run_benchmarks(quick: bool = False, as_json: bool = False) -> int:
         if limits is not None:
             print()
             _print_limits(limits)
+        print()
+        print_ik_bench(ik)
+        print()
+        print_calibration_bench(calibration)
     return 0
 
 

@@ -19,6 +19,7 @@ _MODULES = {
     "quadruped-trot": "quadruped_trot",
     "quadruped-push": "quadruped_push",
     "quadruped-tilt-stop": "quadruped_tilt_stop",
+    "arm-line": "arm_line",
 }
 
 
