@@ -46,5 +46,8 @@ void bind_trajectory(py::module_& m);
 void bind_control(py::module_& m);
 void bind_quadruped(py::module_& m);
 void bind_qp(py::module_& m);
+void bind_planning(py::module_& m);
+void bind_force(py::module_& m);
+void bind_safety(py::module_& m);
 
 }  // namespace kiloloop::py_glue

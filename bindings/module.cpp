@@ -12,4 +12,7 @@ PYBIND11_MODULE(_core, m) {
   bind_control(m);
   bind_quadruped(m);
   bind_qp(m);
+  bind_planning(m);
+  bind_force(m);
+  bind_safety(m);
 }

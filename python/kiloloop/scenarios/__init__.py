@@ -19,6 +19,9 @@ _MODULES = {
     "quadruped-trot": "quadruped_trot",
     "quadruped-push": "quadruped_push",
     "quadruped-tilt-stop": "quadruped_tilt_stop",
+    "arm-rrt": "arm_rrt",
+    "arm-press": "arm_press",
+    "arm-estop": "arm_estop",
 }
 
 
