@@ -1,9 +1,9 @@
 """Scene additions for the arm scenarios, applied to a MujocoPlant's MjSpec before it compiles
 (MujocoPlant(..., scene=fn)): box obstacles, a table, a tool tip with a 3-axis force sensor.
 
-Collision bits: robot links are contype 0 / conaffinity 1 (sil/plant.py); obstacles and the table
-are 3 / 3 so they touch the links and the tool tip; the tip is 2 / 2 so it touches the table and
-obstacles but never the arm it is mounted on.
+Collision bits: robot links are contype 0 / conaffinity 1 (sil/plant.py); box obstacles are 3 / 3
+so they touch the links and the tool tip; the tip is 2 / 2 so it touches the table and obstacles
+but never the arm it is mounted on; the table (a plane) is 2 / 2, the tip only.
 """
 from __future__ import annotations
 
@@ -23,6 +23,25 @@ def add_box(spec, name: str, center, half_extents, *, friction: float = 1.0,
                             friction=[float(friction), 0.005, 0.0001])
 
 
+def add_table(spec, name: str, center, half_size, *, friction: float = 1.0, solref=None,
+              solimp=None, rgba=(0.6, 0.5, 0.4, 1.0)) -> None:
+    """A horizontal table top: a finite plane whose surface is at center[2] [m]. A plane, not a
+    box: MuJoCo's sphere-plane contact is analytic and stays on while the tip slides (its
+    sphere-box contact dropped out for single steps every few millimetres of sliding here).
+    A plane is a half-space to MuJoCo, so it touches only the tool tip (bits 2 / 2), never the
+    links below its surface."""
+    geom = spec.worldbody.add_geom(name=name, type=mujoco.mjtGeom.mjGEOM_PLANE,
+                                   pos=np.asarray(center, dtype=float),
+                                   size=[float(half_size[0]), float(half_size[1]), 0.01],
+                                   contype=2, conaffinity=2, rgba=list(rgba),
+                                   friction=[float(friction), 0.005, 0.0001])
+    # Contact softness (MuJoCo solref / solimp); a pair uses the stiffer... see priority rules.
+    if solref is not None:
+        geom.solref = list(solref)
+    if solimp is not None:
+        geom.solimp = list(solimp)
+
+
 @dataclass(frozen=True)
 class ToolTip:
     """A sphere rigidly mounted on a link at `offset` (link frame) [m], with a force sensor."""
@@ -31,6 +50,7 @@ class ToolTip:
     offset: tuple = (0.0, 0.0, 0.02)   # [m] sphere centre in the parent frame
     radius: float = 0.01               # [m]
     mass: float = 0.001                # [kg] (negligible next to the 0.19 kg wrist 3)
+    friction: float = 1.0              # Coulomb coefficient (MuJoCo takes the larger of a pair's)
     body: str = "tool_tip"
     site: str = "tool_tip_site"
     sensor: str = "tool_tip_force"
@@ -43,7 +63,7 @@ class ToolTip:
         body = parent.add_body(name=self.body, pos=list(self.offset), mass=self.mass,
                                inertia=[1e-8, 1e-8, 1e-8])
         body.add_geom(name=self.body, type=mujoco.mjtGeom.mjGEOM_SPHERE, size=[self.radius, 0, 0],
-                      contype=2, conaffinity=2)
+                      contype=2, conaffinity=2, friction=[self.friction, 0.005, 0.0001])
         body.add_site(name=self.site)
         spec.add_sensor(name=self.sensor, type=mujoco.mjtSensor.mjSENS_FORCE,
                         objtype=mujoco.mjtObj.mjOBJ_SITE, objname=self.site)

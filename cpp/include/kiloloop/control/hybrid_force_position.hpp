@@ -3,7 +3,7 @@
 // 1987): a diagonal selection matrix S in a task frame R_task splits the six task axes into
 // motion-controlled (S_ii = 1) and force-controlled (S_ii = 0) ones,
 //   Omega   = R6 S R6^T,  Omega_bar = R6 (I - S) R6^T,   R6 = blkdiag(R_task, R_task)
-//   F_m     = Lambda Omega (a_ref + Kp e + Kd (twist_ref - J qd))            motion
+//   F_m     = Omega Lambda Omega (a_ref + Kp e + Kd (twist_ref - J qd))      motion
 //   F_f     = Omega_bar (f_ref + Kf (f_ref - f) + Ki int(f_ref - f) - Kv J qd)   force
 //   tau     = J^T (F_m + F_f) + C(q,qd) qd + g(q).
 // f_ref and f are the wrench the tip applies on the environment (CartesianControlInput); the
