@@ -175,6 +175,7 @@ def _print_quadruped_sil(q: dict) -> None:
 
 
 def run_benchmarks(quick: bool = False, as_json: bool = False) -> int:
+    from .arm_bench import print_arm_bench, run_arm_bench
     from .qp_bench import print_qp_bench, run_qp_bench
 
     core = core_benchmark(quick)
@@ -182,9 +183,11 @@ def run_benchmarks(quick: bool = False, as_json: bool = False) -> int:
     quadruped = quadruped_sil_benchmark(quick)
     qp = run_qp_bench(quick)
     limits = None if quick else quadruped_limits()
+    arm = run_arm_bench(quick)
     report = {"python": sys.version.split()[0], "platform": platform.platform(),
               "mujoco": mujoco.__version__, "kiloloop": kl.__version__, "core": core, "sil": sil,
-              "quadruped_sil": quadruped, "qp": qp, "quadruped_limits": limits}
+              "quadruped_sil": quadruped, "qp": qp, "quadruped_limits": limits,
+              "arm": arm}
     if as_json:
         # numpy scalars (from the peers' results) print as plain numbers
         print(json.dumps(report, default=lambda o: o.item() if hasattr(o, "item") else str(o)))
@@ -199,6 +202,8 @@ def run_benchmarks(quick: bool = False, as_json: bool = False) -> int:
         if limits is not None:
             print()
             _print_limits(limits)
+        print()
+        print_arm_bench(arm)
     return 0
 
 
