@@ -28,6 +28,13 @@ def test_hybrid_passes_its_criteria(hybrid):
     assert r.metrics["max_tangential_force_N"] > 2.0
 
 
+def test_high_friction_still_passes():
+    # Friction 1.0 doubles the tangential disturbance the force and x loops must reject.
+    r = run(friction=1.0)
+    assert r.passed, {k: c["value"] for k, c in r.criteria.items()}
+    assert r.metrics["max_tangential_force_N"] > 8.0
+
+
 def test_force_follows_its_reference():
     r = run(duration=1.0, force=5.0)
     assert abs(r.metrics["mean_force_N"] - 5.0) < 0.1

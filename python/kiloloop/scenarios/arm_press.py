@@ -32,13 +32,14 @@ DEFAULTS = {
     "settle": 0.5,                  # [s] before the slide starts (contact is made and settles)
     "slide_time": 2.0,              # [s]
     "gap": 0.001,                   # [m] tip above the table at the start
-    "friction": 0.3,                # Coulomb friction tip-table (steel on polished steel)
-    # Table contact softness (MuJoCo solref: time constant [s], damping ratio); [] = MuJoCo's
-    # default (0.02, 1). With the default, a sliding contact's penetration (microns) creeps to zero
-    # and the contact drops out for single steps every ~40 ms (the force reads 0 N, then ~13 N);
-    # 0.05 s keeps it closed. Measured: see bench/RESULTS.md.
-    "solref": [0.05, 1.0],
-    "solimp": [],
+    "friction": 0.5,                # Coulomb friction tip-table
+    # Table contact softness (MuJoCo solref / solimp; [] = MuJoCo's default). The impedance
+    # ramps from 0.5 at the surface to 0.95 at 5 mm, so the contact force grows with penetration
+    # (about 1 mm at 10 N: a compliant tool tip). With MuJoCo's default solimp the contact holds
+    # 10 N at a few micrometres whatever the depth, the sliding tip creeps out of it and the
+    # contact drops out for single steps every ~40 ms (0 N, then ~13 N): see bench/RESULTS.md.
+    "solref": [],
+    "solimp": [0.5, 0.95, 0.005, 0.5, 2.0],
     "noslip_iterations": 0,         # MuJoCo's no-slip post-processing of friction
     "cone": "elliptic",             # MuJoCo friction cone: "elliptic" or "pyramidal"
     "measure_from": 0.4,            # [s] criteria hold from here on ("after settling")

@@ -25,17 +25,16 @@ def add_box(spec, name: str, center, half_extents, *, friction: float = 1.0,
 
 def add_table(spec, name: str, center, half_size, *, friction: float = 1.0, solref=None,
               solimp=None, rgba=(0.6, 0.5, 0.4, 1.0)) -> None:
-    """A horizontal table top: a finite plane whose surface is at center[2] [m]. A plane, not a
-    box: MuJoCo's sphere-plane contact is analytic and stays on while the tip slides (its
-    sphere-box contact dropped out for single steps every few millimetres of sliding here).
-    A plane is a half-space to MuJoCo, so it touches only the tool tip (bits 2 / 2), never the
-    links below its surface."""
+    """A horizontal table top: a finite plane whose surface is at center[2] [m] (only the top
+    matters for pressing on it). A plane is a half-space to MuJoCo, so it touches only the tool
+    tip (bits 2 / 2), never the links below its surface. solref / solimp: MuJoCo contact
+    softness of the table (None: MuJoCo's defaults)."""
     geom = spec.worldbody.add_geom(name=name, type=mujoco.mjtGeom.mjGEOM_PLANE,
                                    pos=np.asarray(center, dtype=float),
                                    size=[float(half_size[0]), float(half_size[1]), 0.01],
                                    contype=2, conaffinity=2, rgba=list(rgba),
                                    friction=[float(friction), 0.005, 0.0001])
-    # Contact softness (MuJoCo solref / solimp); a pair uses the stiffer... see priority rules.
+    # A contact pair mixes both geoms' solref/solimp (solmix, equal weights by default).
     if solref is not None:
         geom.solref = list(solref)
     if solimp is not None:
