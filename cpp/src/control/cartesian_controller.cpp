@@ -125,7 +125,7 @@ Status CartesianTorqueController::step(const CartesianControlInput& in,
       // Damped stop at the measured state: g(q) - Kd qd.
       if (failed(dyn_.gravity(in.q, out.tau))) out.tau.setZero();
       out.tau.noalias() -= common_.stop_damping * in.qd;
-      s = saturate(Status::kNonFiniteReference, out.tau);
+      saturate(Status::kNonFiniteReference, out.tau);  // clip only: the status is the reason
       s = Status::kNonFiniteReference;
     } else if (const Status tq = task_quantities(in); failed(tq)) {
       s = hold(tq, out.tau);

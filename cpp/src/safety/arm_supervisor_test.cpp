@@ -3,6 +3,7 @@
 // not on brief overload; the singularity warning comes before the singular configuration;
 // bad inputs, zero allocations.
 #include <cmath>
+#include <cstring>
 
 #include <gtest/gtest.h>
 
@@ -255,6 +256,33 @@ TEST(ArmSupervisor, BadInputsAndZeroAllocations) {
   }
   EXPECT_EQ(scope.count(), 0u);
   EXPECT_EQ(a.mode(), SupervisorMode::kHolding);
+}
+
+}  // namespace
+}  // namespace kiloloop
+
+namespace kiloloop {
+namespace {
+
+TEST(ArmSupervisor, SameInputsGiveBitIdenticalOutputs) {
+  const RobotModelPtr model = testing::load_ur5();
+  ArmSupervisor a = make_supervisor(model), b = make_supervisor(model);
+  SupervisorInput in = a.make_input();
+  SupervisorOutput oa = a.make_output(), ob = b.make_output();
+  for (int k = 0; k < 1500; ++k) {
+    in.t = in.stamp = k * 1e-3;
+    in.q = home();
+    in.q[0] = 0.3 * std::sin(2.0 * in.t);
+    in.qd.setZero();
+    in.qd[0] = 0.6 * std::cos(2.0 * in.t);
+    in.tau_command.setConstant(20.0 * std::sin(in.t));
+    in.estop = k >= 700;
+    a.step(in, oa);
+    b.step(in, ob);
+    ASSERT_EQ(std::memcmp(oa.tau.data(), ob.tau.data(), 6 * sizeof(double)), 0) << "tick " << k;
+    ASSERT_EQ(oa.mode, ob.mode);
+  }
+  EXPECT_NE(a.mode(), SupervisorMode::kNormal);
 }
 
 }  // namespace
