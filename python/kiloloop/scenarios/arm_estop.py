@@ -25,7 +25,7 @@ DEFAULTS = {
     "q_goal": [1.6, -0.6, 0.6, -2.2, -0.8, 1.5],  # [rad] from the overlay's q0
     "velocity_scale": 0.7,      # of the URDF velocity limits
     "acceleration": 4.0,        # [rad/s^2] of the trapezoid
-    "t_estop": 0.9,             # [s] e-stop pressed (mid-motion)
+    "t_estop": 0.65,            # [s] e-stop pressed (mid-motion, at cruise speed)
     "stop_deceleration": 5.0,   # [rad/s^2] supervisor's a_stop
     "stopped_speed": 0.01,      # [rad/s] "stopped" when every |qd| is below this
 }
