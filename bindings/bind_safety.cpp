@@ -31,6 +31,7 @@ void bind_safety(py::module_& m) {
       .def_readwrite("acceleration_limit", &ArmSupervisorConfig::acceleration_limit)
       .def_readwrite("effort_limit", &ArmSupervisorConfig::effort_limit)
       .def_readwrite("stop_deceleration", &ArmSupervisorConfig::stop_deceleration)
+      .def_readwrite("peak_trip_ratio", &ArmSupervisorConfig::peak_trip_ratio)
       .def_readwrite("rated_torque_fraction", &ArmSupervisorConfig::rated_torque_fraction)
       .def_readwrite("thermal_time_constant", &ArmSupervisorConfig::thermal_time_constant)
       .def_readwrite("acceleration_filter", &ArmSupervisorConfig::acceleration_filter)

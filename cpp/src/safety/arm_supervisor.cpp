@@ -31,6 +31,7 @@ Status validate(const ArmSupervisorConfig& c, int nq, std::string* why) {
   if (!expand(c.acceleration_limit, inf, nq, &v) || (v.array() <= 0.0).any())
     return fail("acceleration_limit must be > 0");
   if (!c.gravity.allFinite()) return fail("gravity must be finite");
+  if (!(c.peak_trip_ratio >= 1.0)) return fail("peak_trip_ratio must be >= 1 (inf disables)");
   if (!(c.rated_torque_fraction > 0.0) || !std::isfinite(c.rated_torque_fraction))
     return fail("rated_torque_fraction must be > 0");
   if (!(c.thermal_time_constant > 0.0) || !std::isfinite(c.thermal_time_constant))
@@ -188,6 +189,8 @@ Status ArmSupervisor::step(const SupervisorInput& in, SupervisorOutput& out) noe
     if (in.estop) trip(Status::kEmergencyStop, in);
     else if (in.tau_command.size() != n) trip(Status::kBadSize, in);
     else if (!in.tau_command.allFinite()) trip(Status::kNonFiniteReference, in);
+    else if (((in.tau_command.cwiseAbs() - config_.peak_trip_ratio * effort_).array() > 0.0).any())
+      trip(Status::kTorqueOverload, in);
   }
   if (mode_ == SupervisorMode::kNormal) {
     for (int j = 0; j < n; ++j) {

@@ -167,6 +167,18 @@ TEST(ArmSupervisor, SustainedOverloadTripsBriefOverloadDoesNot) {
               }), Status::kOk);
     EXPECT_GT(sup.counters().saturated, 0u);
   }
+  {  // a command beyond 1.5x the effort limit trips at once
+    ArmSupervisor sup = make_supervisor(model, cfg);
+    double t_trip = -1.0;
+    EXPECT_EQ(run_synthetic(sup, 100, [&](double t, SupervisorInput& in) {
+                in.q = home();
+                in.tau_command.setZero();
+                if (t >= 0.05) in.tau_command[4] = -50.0;  // wrist: 28 N m effort
+                t_trip = t;
+              }), Status::kTorqueOverload);
+    EXPECT_NEAR(t_trip, 0.05, 1e-9);
+    EXPECT_EQ(sup.counters().overload_trips, 1u);
+  }
   {  // 0.8 effort held: theta -> 2.56, crosses 1 at t = -T ln(1 - 1/2.56) = 0.99 s
     ArmSupervisor sup = make_supervisor(model, cfg);
     double t_trip = 0.0;

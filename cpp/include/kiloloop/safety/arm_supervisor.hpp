@@ -6,7 +6,8 @@
 //                     past its limit: q + sign(qd) qd^2 / (2 a_stop) outside [lower, upper];
 //   joint velocity  - |qd| > velocity limit;
 //   joint accel.    - |qdd| > acceleration limit, qdd from the measured qd (low-pass filtered);
-//   torque          - instantaneous: |tau| above the effort limit is clipped (kSaturated);
+//   torque          - instantaneous: |tau| above the effort limit is clipped (kSaturated), and a
+//                     command beyond peak_trip_ratio x effort (a controller gone wrong) trips;
 //                     sustained: a first-order I^2 t thermal state per joint,
 //                       theta' = ((tau / tau_rated)^2 - theta) / T_thermal, trips at theta >= 1
 //                     (an RMS torque above tau_rated held for about T_thermal);
@@ -34,6 +35,7 @@ struct ArmSupervisorConfig {
   Eigen::VectorXd acceleration_limit = Eigen::VectorXd::Constant(1, 20.0);  // [rad/s^2]
   Eigen::VectorXd effort_limit;              // [N m] peak torque (clip)
   Eigen::VectorXd stop_deceleration = Eigen::VectorXd::Constant(1, 4.0);    // [rad/s^2] a_stop
+  double peak_trip_ratio = 1.5;              // |tau_command| > this x effort trips at once
   double rated_torque_fraction = 0.5;        // continuous rating tau_rated / effort
   double thermal_time_constant = 2.0;        // [s] T_thermal of the I^2 t model
   double acceleration_filter = 0.005;        // [s] time constant of the qdd low-pass
@@ -73,7 +75,7 @@ struct SupervisorCounters {
   unsigned long long position_trips = 0;
   unsigned long long velocity_trips = 0;
   unsigned long long acceleration_trips = 0;
-  unsigned long long overload_trips = 0;
+  unsigned long long overload_trips = 0;      // sustained (I^2 t) and instantaneous (peak) trips
   unsigned long long bad_command_trips = 0;   // NaN/Inf or wrong-size torque from the controller
   unsigned long long saturated = 0;           // ticks with clipped torque
   unsigned long long singularity_warnings = 0;  // ticks with a warning
