@@ -77,7 +77,8 @@ void bind_force(py::module_& m) {
       .def_readwrite("kf", &HybridForcePositionConfig::kf)
       .def_readwrite("ki", &HybridForcePositionConfig::ki)
       .def_readwrite("kv", &HybridForcePositionConfig::kv)
-      .def_readwrite("integral_limit", &HybridForcePositionConfig::integral_limit);
+      .def_readwrite("integral_limit", &HybridForcePositionConfig::integral_limit)
+      .def_readwrite("project_motion_wrench", &HybridForcePositionConfig::project_motion_wrench);
 
   bind_cartesian_controller<CartesianImpedanceController, CartesianImpedanceConfig>(
       m, "CartesianImpedanceController", "F = Lambda a_ref + K e + D (v_ref - v); tau = J^T F + C qd + g");

@@ -35,6 +35,13 @@ def test_high_friction_still_passes():
     assert r.metrics["max_tangential_force_N"] > 8.0
 
 
+def test_projected_motion_wrench_rejects_friction_better(hybrid):
+    # The full Lambda Omega a pushes on the force axis whenever friction holds an x error.
+    full = run(project_motion_wrench=False)
+    assert full.metrics["failed_ticks"] == 0
+    assert full.metrics["max_force_error_N"] > 2 * hybrid.metrics["max_force_error_N"]
+
+
 def test_force_follows_its_reference():
     r = run(duration=1.0, force=5.0)
     assert abs(r.metrics["mean_force_N"] - 5.0) < 0.1

@@ -95,9 +95,13 @@ TEST(CartesianImpedance, StepResponseIsDampedNotOscillating) {
 }
 
 // A stiff frictionless wall below the tool: z <= z_wall pushes back with k (z_wall - z) - b zdot.
-TEST(HybridForcePosition, RegulatesContactForceWhileTrackingAlongTheWall) {
+class HybridOnWall : public ::testing::TestWithParam<bool> {};
+
+TEST_P(HybridOnWall, RegulatesContactForceWhileTrackingAlongTheWall) {
   const RobotModelPtr model = testing::load_ur5();
-  HybridForcePositionController c = make_hybrid(model);
+  HybridForcePositionConfig cfg;
+  cfg.project_motion_wrench = GetParam();
+  HybridForcePositionController c = make_hybrid(model, cfg);
   testing::ArmSim sim(model, tool_down_q());
   CartesianControlInput in = c.make_input();
   CartesianControlOutput out = c.make_output();
@@ -134,10 +138,13 @@ TEST(HybridForcePosition, RegulatesContactForceWhileTrackingAlongTheWall) {
     }
   }
   (void)b_wall;
-  std::printf("hybrid: worst |F_z - 10 N| %.3f N, worst x error %.3f mm\n", worst_force, worst_x * 1e3);
+  std::printf("hybrid (project_motion_wrench %d): worst |F_z - 10 N| %.3f N, worst x error %.3f mm\n",
+              int(GetParam()), worst_force, worst_x * 1e3);
   EXPECT_LT(worst_force, 0.5);
   EXPECT_LT(worst_x, 1e-3);
 }
+
+INSTANTIATE_TEST_SUITE_P(BothMotionWrenches, HybridOnWall, ::testing::Bool());
 
 template <class Controller>
 void expect_bad_input_policy(Controller& c, const RobotModelPtr& model) {

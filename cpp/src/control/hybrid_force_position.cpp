@@ -71,8 +71,9 @@ Status HybridForcePositionController::law(const CartesianControlInput& in, Vecto
   // command into a force along the force-controlled axes (a static disturbance of the force).
   const Eigen::Matrix<double, 6, 6> Lambda_task = R6_.transpose() * Lambda_ * R6_;
   Vector6d f_m = Lambda_task * a_m;
-  for (int i = 0; i < 6; ++i)
-    if (c.selection[i] != 1.0) f_m[i] = 0.0;
+  if (c.project_motion_wrench)
+    for (int i = 0; i < 6; ++i)
+      if (c.selection[i] != 1.0) f_m[i] = 0.0;
   F.noalias() = R6_ * (f_m + f_cmd);
   return Status::kOk;
 }

@@ -47,6 +47,7 @@ DEFAULTS = {
     "kf": [],                       # [-]
     "ki": [],                       # [1/s]
     "kv": [],                       # [N s/m]
+    "project_motion_wrench": True,  # HybridForcePositionConfig.project_motion_wrench
 }
 CRITERIA = {
     "max_force_error_N": ("<", 0.5),
@@ -101,6 +102,7 @@ _CONES = {"elliptic": mujoco.mjtCone.mjCONE_ELLIPTIC, "pyramidal": mujoco.mjtCon
 def _make_controller(model, settings):
     if settings["controller"] == "hybrid":
         config = kl.HybridForcePositionConfig()
+        config.project_motion_wrench = bool(settings["project_motion_wrench"])
         for key in ("kf", "ki", "kv"):
             if len(settings[key]):
                 gains = np.array(getattr(config, key))

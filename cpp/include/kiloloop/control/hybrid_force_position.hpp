@@ -25,6 +25,10 @@ struct HybridForcePositionConfig {
   Vector6d ki = Vector6d::Constant(20.0);    // [1/s] integral force gain
   Vector6d kv = (Vector6d() << 60, 60, 60, 2, 2, 2).finished();  // [N s/m; N m s/rad] damping on force axes
   double integral_limit = 20.0;  // [N] / [N m] clamp of each force-integral term
+  // true: F_m = Omega Lambda Omega a (no motion-induced force on the force axes); false: the
+  // full Lambda Omega a (Khatib's dynamic decoupling, which pushes on the force axes when
+  // the motion axes accelerate or carry a static error).
+  bool project_motion_wrench = true;
 };
 
 Status validate(const HybridForcePositionConfig& config, std::string* why);
