@@ -98,6 +98,26 @@ TEST(Trapezoid, RandomWaypointsStayWithinLimitsAndArriveTogether) {
   }
 }
 
+TEST(Trapezoid, RepeatedWaypointsGiveZeroLengthSegments) {
+  Eigen::MatrixXd w(2, 4);
+  w << 0.0, 1.0, 1.0, 1.0,
+       0.0, -1.0, -1.0, -1.0;  // the last two segments do not move
+  TrapezoidTrajectory traj;
+  std::string why;
+  ASSERT_EQ(TrapezoidTrajectory::configure(w, Eigen::VectorXd::Ones(2), Eigen::VectorXd::Ones(2), 0.0,
+                                           &traj, &why),
+            Status::kOk);
+  EXPECT_NEAR(traj.end_time(), 2.0, 1e-12);  // triangular, d = 1, a = 1: 2 sqrt(1)
+  EXPECT_EQ(traj.times()[1], traj.times()[3]);
+  Eigen::VectorXd q(2), qd(2), qdd(2);
+  for (double t : {1.999, 2.0, 2.5}) {
+    ASSERT_EQ(traj.sample(t, q, qd, qdd), Status::kOk);
+    EXPECT_TRUE(q.allFinite() && qd.allFinite() && qdd.allFinite());
+  }
+  EXPECT_EQ(q, w.col(3));
+  EXPECT_EQ(qd, Eigen::VectorXd::Zero(2));
+}
+
 TEST(Trapezoid, RejectsBadSettingsAndSamplesWithoutAllocating) {
   TrapezoidTrajectory traj;
   std::string why;
