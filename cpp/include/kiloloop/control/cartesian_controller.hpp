@@ -22,7 +22,9 @@ namespace kiloloop {
 struct CartesianCommonConfig {
   Eigen::Vector3d gravity = Eigen::Vector3d(0.0, 0.0, -9.81);  // [m/s^2] in the chain root frame
   double max_measurement_age = 0.005;  // [s] older measurements trigger the hold fallback
-  double singular_damping = 1e-4;      // mu added to J M^-1 J^T before inverting [1/kg-ish]
+  // mu added to the diagonal of J M^-1 J^T (units of an inverse mass: 1/kg linear, 1/(kg m^2)
+  // angular) before inverting: bounds Lambda near singularities, negligible away from them.
+  double singular_damping = 1e-4;
   double stop_damping = 5.0;           // [N m s/rad] joint damping of the damped-stop fallback
 };
 
@@ -48,8 +50,8 @@ class CartesianTorqueController {
 
  protected:
   Status configure_common(const CartesianCommonConfig& c, RobotModelPtr model, std::string* why);
-  // The law: writes the task wrench F [N; N m] from the quantities below; in and out are given
-  // so that a law may read the reference and measured wrench.
+  // The law: writes the task wrench F [N; N m] from the quantities below and the input (its
+  // references and measured wrench). A failed status makes step() hold.
   virtual Status law(const CartesianControlInput& in, Vector6d& F) noexcept = 0;
 
   Dynamics dyn_;
