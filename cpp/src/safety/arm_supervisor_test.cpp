@@ -56,7 +56,9 @@ TEST(ArmSupervisor, EstopStopsWithinPlannedTimeAndDistanceThenHolds) {
     in.tau_command = velocity_servo(dyn, sim.q, sim.qd, qd_cmd);
     in.estop = t >= t_estop;
     const Status s = sup.step(in, out);
-    if (t < t_estop) ASSERT_EQ(out.mode, SupervisorMode::kNormal) << to_string(s) << " t " << t;
+    if (t < t_estop) {
+      ASSERT_EQ(out.mode, SupervisorMode::kNormal) << to_string(s) << " t " << t;
+    }
     if (tick == static_cast<int>(t_estop * 1000)) {
       q_at_estop = sim.q;
       qd_at_estop = sim.qd;
@@ -100,11 +102,10 @@ template <class Fn>
 Status run_synthetic(ArmSupervisor& sup, int ticks, Fn&& fill) {
   SupervisorInput in = sup.make_input();
   SupervisorOutput out = sup.make_output();
-  Status last = Status::kOk;
   for (int k = 0; k < ticks && out.mode == SupervisorMode::kNormal; ++k) {
     in.t = in.stamp = k * 1e-3;
     fill(in.t, in);
-    last = sup.step(in, out);
+    sup.step(in, out);
   }
   return out.trip;
 }
