@@ -26,7 +26,7 @@ enum class Status : int {
   kInfeasible = -9,            // a constrained problem has no solution
   kSafeStop = -10,             // a safety limit tripped (e.g. trunk tilt): latched safe output
   kLimitViolation = -11,       // a joint position/velocity/acceleration limit tripped a stop
-  kTorqueOverload = -12,       // sustained (I^2 t) torque overload tripped a stop
+  kTorqueOverload = -12,       // torque overload (sustained I^2 t, or far beyond peak) tripped a stop
   kEmergencyStop = -13,        // the emergency-stop input: controlled stop, then hold
 };
 
