@@ -10,6 +10,7 @@ void bind_status(py::module_& m) {
       .value("ITERATION_LIMIT", Status::kIterationLimit)
       .value("UNREACHABLE", Status::kUnreachable)
       .value("ESTIMATOR_DEGRADED", Status::kEstimatorDegraded)
+      .value("NEAR_SINGULARITY", Status::kNearSingularity)
       .value("NON_FINITE_MEASUREMENT", Status::kNonFiniteMeasurement)
       .value("NON_FINITE_REFERENCE", Status::kNonFiniteReference)
       .value("BAD_SIZE", Status::kBadSize)
@@ -20,6 +21,9 @@ void bind_status(py::module_& m) {
       .value("SOLVER_FAILED", Status::kSolverFailed)
       .value("INFEASIBLE", Status::kInfeasible)
       .value("SAFE_STOP", Status::kSafeStop)
+      .value("LIMIT_VIOLATION", Status::kLimitViolation)
+      .value("TORQUE_OVERLOAD", Status::kTorqueOverload)
+      .value("EMERGENCY_STOP", Status::kEmergencyStop)
       .def_property_readonly("ok", [](Status s) { return ok(s); })
       .def_property_readonly("failed", [](Status s) { return failed(s); });
 }

@@ -49,5 +49,8 @@ void bind_qp(py::module_& m);
 void bind_kinematics(py::module_& m);
 void bind_arm(py::module_& m);
 void bind_calibration(py::module_& m);
+void bind_planning(py::module_& m);
+void bind_force(py::module_& m);
+void bind_safety(py::module_& m);
 
 }  // namespace kiloloop::py_glue

@@ -15,4 +15,7 @@ PYBIND11_MODULE(_core, m) {
   bind_kinematics(m);
   bind_arm(m);
   bind_calibration(m);
+  bind_planning(m);
+  bind_force(m);
+  bind_safety(m);
 }

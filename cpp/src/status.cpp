@@ -10,6 +10,7 @@ const char* to_string(Status s) noexcept {
     case Status::kIterationLimit: return "iteration_limit";
     case Status::kUnreachable: return "unreachable";
     case Status::kEstimatorDegraded: return "estimator_degraded";
+    case Status::kNearSingularity: return "near_singularity";
     case Status::kNonFiniteMeasurement: return "non_finite_measurement";
     case Status::kNonFiniteReference: return "non_finite_reference";
     case Status::kBadSize: return "bad_size";
@@ -20,6 +21,9 @@ const char* to_string(Status s) noexcept {
     case Status::kSolverFailed: return "solver_failed";
     case Status::kInfeasible: return "infeasible";
     case Status::kSafeStop: return "safe_stop";
+    case Status::kLimitViolation: return "limit_violation";
+    case Status::kTorqueOverload: return "torque_overload";
+    case Status::kEmergencyStop: return "emergency_stop";
   }
   return "unknown";
 }

@@ -13,6 +13,7 @@ enum class Status : int {
   kIterationLimit = 3,      // an iterative solver stopped at its cap with a usable iterate
   kUnreachable = 4,         // an IK target is out of reach: the last valid solution is kept
   kEstimatorDegraded = 5,   // the state estimate ran without a correction (no stance feet, ...)
+  kNearSingularity = 6,     // the arm is close to (or heading into) a singular configuration
   // Failures: the output is the safe fallback.
   kNonFiniteMeasurement = -1,  // NaN/Inf in a measured signal
   kNonFiniteReference = -2,    // NaN/Inf in a reference or command
@@ -24,6 +25,9 @@ enum class Status : int {
   kSolverFailed = -8,          // a numeric solver failed (singular, diverged)
   kInfeasible = -9,            // a constrained problem has no solution
   kSafeStop = -10,             // a safety limit tripped (e.g. trunk tilt): latched safe output
+  kLimitViolation = -11,       // a joint position/velocity/acceleration limit tripped a stop
+  kTorqueOverload = -12,       // torque overload (sustained I^2 t, or far beyond peak) tripped a stop
+  kEmergencyStop = -13,        // the emergency-stop input: controlled stop, then hold
 };
 
 inline constexpr bool ok(Status s) noexcept { return static_cast<int>(s) >= 0; }

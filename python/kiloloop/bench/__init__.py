@@ -175,6 +175,7 @@ def _print_quadruped_sil(q: dict) -> None:
 
 
 def run_benchmarks(quick: bool = False, as_json: bool = False) -> int:
+    from .arm_bench import print_arm_bench, run_arm_bench
     from .qp_bench import print_qp_bench, run_qp_bench
 
     core = core_benchmark(quick)
@@ -186,11 +187,12 @@ def run_benchmarks(quick: bool = False, as_json: bool = False) -> int:
     from .ik_bench import print_ik_bench, run_ik_bench
 
     ik = run_ik_bench(quick)
+    arm = run_arm_bench(quick)
     calibration = run_calibration_bench()
     report = {"python": sys.version.split()[0], "platform": platform.platform(),
               "mujoco": mujoco.__version__, "kiloloop": kl.__version__, "core": core, "sil": sil,
               "quadruped_sil": quadruped, "qp": qp, "quadruped_limits": limits, "ik": ik,
-              "calibration": calibration}
+              "calibration": calibration, "arm": arm}
     if as_json:
         # numpy scalars (from the peers' results) print as plain numbers
         print(json.dumps(report, default=lambda o: o.item() if hasattr(o, "item") else str(o)))
@@ -209,6 +211,8 @@ def run_benchmarks(quick: bool = False, as_json: bool = False) -> int:
         print_ik_bench(ik)
         print()
         print_calibration_bench(calibration)
+        print()
+        print_arm_bench(arm)
     return 0
 
 

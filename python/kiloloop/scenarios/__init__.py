@@ -20,6 +20,9 @@ _MODULES = {
     "quadruped-push": "quadruped_push",
     "quadruped-tilt-stop": "quadruped_tilt_stop",
     "arm-line": "arm_line",
+    "arm-rrt": "arm_rrt",
+    "arm-press": "arm_press",
+    "arm-estop": "arm_estop",
 }
 
 

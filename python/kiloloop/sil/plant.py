@@ -95,7 +95,7 @@ class MujocoPlant:
     """A torque-controlled MuJoCo model of a fixed-base URDF robot."""
 
     def __init__(self, urdf_path, overlay=None, *, timestep=None, damping=None, frictionloss=None,
-                 armature=None, floor=None):
+                 armature=None, floor=None, scene=None):
         urdf_path = Path(urdf_path)
         cfg = _load_overlay(overlay)
         phys, jcfg = cfg["physics"], cfg["joints"]
@@ -144,6 +144,10 @@ class MujocoPlant:
             raise ValueError(f"ee.body: no link named {ee['body']!r} in {urdf_path}")
         ee_body.add_site(name=self.ee_site)
 
+        # Optional scene additions (obstacles, a table, a tool with a force sensor: sil/arm_scene.py)
+        # made on the spec before it is compiled.
+        if scene is not None:
+            scene(spec)
         self.spec = spec  # kept for inspection, e.g. plant.spec.to_xml()
         self.model = spec.compile()
         self.data = mujoco.MjData(self.model)
