@@ -46,5 +46,6 @@ void bind_trajectory(py::module_& m);
 void bind_control(py::module_& m);
 void bind_quadruped(py::module_& m);
 void bind_qp(py::module_& m);
+void bind_aerial(py::module_& m);
 
 }  // namespace kiloloop::py_glue

@@ -12,4 +12,5 @@ PYBIND11_MODULE(_core, m) {
   bind_control(m);
   bind_quadruped(m);
   bind_qp(m);
+  bind_aerial(m);
 }

@@ -36,11 +36,21 @@ Status validate(const AerialConfig& c, int nq, std::string* why) {
   };
   if (!(finite(c.dt) && c.dt > 0)) return fail("dt must be > 0");
   if (!c.gravity.allFinite() || c.gravity.norm() <= 0) return fail("gravity must be non-zero");
-  for (const auto* g : {&c.arm_kp, &c.arm_kd}) {
+  for (const auto* g : {&c.arm_kp, &c.arm_kd, &c.arm_viscous, &c.arm_coulomb}) {
     if (g->size() != 1 && g->size() != nq)
-      return fail("arm_kp/arm_kd must have 1 or nq = " + std::to_string(nq) + " entries");
-    if (!g->allFinite() || (g->array() < 0).any()) return fail("arm_kp/arm_kd must be >= 0");
+      return fail("arm_kp/arm_kd/arm_viscous/arm_coulomb must have 1 or nq = " +
+                  std::to_string(nq) + " entries");
+    if (!g->allFinite() || (g->array() < 0).any())
+      return fail("arm_kp/arm_kd/arm_viscous/arm_coulomb must be >= 0");
   }
+  if (!(finite(c.arm_friction_velocity) && c.arm_friction_velocity > 0))
+    return fail("arm_friction_velocity must be > 0");
+  if (!(finite(c.reaction_lead) && c.reaction_lead >= 0 && c.reaction_lead <= 1.0))
+    return fail("reaction_lead must be in [0, 1] s");
+  if (!(finite(c.reaction_lead_filter) && c.reaction_lead_filter >= 0))
+    return fail("reaction_lead_filter must be >= 0");
+  if (!(finite(c.arm_friction_deadband) && c.arm_friction_deadband >= 0))
+    return fail("arm_friction_deadband must be >= 0");
   if (c.arm_q_nominal.size() != 0 &&
       (c.arm_q_nominal.size() != nq || !c.arm_q_nominal.allFinite()))
     return fail("arm_q_nominal must be empty or nq finite values");
@@ -134,6 +144,8 @@ Status AerialController::configure(const AerialConfig& config, RobotModelPtr mod
 
   c.kp_ = per_joint(config.arm_kp, nq);
   c.kd_ = per_joint(config.arm_kd, nq);
+  c.viscous_ = per_joint(config.arm_viscous, nq);
+  c.coulomb_ = per_joint(config.arm_coulomb, nq);
   c.lower_ = model->lower();
   c.upper_ = model->upper();
   c.effort_ = model->effort_limit();
@@ -146,6 +158,7 @@ Status AerialController::configure(const AerialConfig& config, RobotModelPtr mod
   c.a_ref_.setZero();
   c.ee_ref_.setZero();
   c.ee_vel_ref_.setZero();
+  c.reaction_z_ = (c.m_total_ - c.m_body_) * c.gravity_norm_;  // the arm hanging at rest
   c.configured_ = true;
   *out = std::move(c);
   return Status::kOk;
@@ -169,9 +182,11 @@ void AerialController::reset() noexcept {
   position_.reset();
   attitude_body_.reset();
   attitude_rigid_.reset();
+  reaction_z_ = (m_total_ - m_body_) * gravity_norm_;
+  reaction_tau_rate_.setZero();
+  have_reaction_ = false;
   allocation_.reset();
   have_ref_ = have_ik_ = false;
-  alpha_prev_.setZero();
   saturated_prev_ = false;
   safe_stop_ = false;
 }
@@ -188,7 +203,6 @@ void AerialController::failsafe(AerialOutput& out, bool motors_off) noexcept {
   out.acceleration_des.setZero();
   out.rotors_saturated = false;
   out.safe_stop = safe_stop_;
-  alpha_prev_.setZero();
 }
 
 Status AerialController::step(const AerialInput& in, AerialOutput& out) noexcept {
@@ -290,7 +304,7 @@ Status AerialController::run(const AerialInput& in, AerialOutput& out) noexcept 
     return Status::kBadSize;
   }
   if (!in.position.allFinite() || !in.velocity.allFinite() || !in.quat.allFinite() ||
-      !in.gyro.allFinite() || !in.q.allFinite() || !in.qd.allFinite() || !finite(in.t) ||
+      !in.gyro.allFinite() || !in.accel.allFinite() || !in.q.allFinite() || !in.qd.allFinite() || !finite(in.t) ||
       !finite(in.stamp) || in.quat.norm() < 0.5 || in.quat.norm() > 1.5) {
     failsafe(out, false);
     return Status::kNonFiniteMeasurement;
@@ -347,25 +361,18 @@ Status AerialController::run(const AerialInput& in, AerialOutput& out) noexcept 
   position_.step(in.position, in.velocity, p_ref_, v_ref_, a_ref_, saturated_prev_, &a_des);
   out.acceleration_des = a_des;
 
-  // Arm computed torque with the body's commanded motion; the same pass gives the reaction.
-  qdd_cmd_ = qdd_ref_ + kd_.cwiseProduct(qd_ref_ - in.qd) + kp_.cwiseProduct(q_ref_ - in.q);
-  BaseMotion base;
-  base.v = R.transpose() * in.velocity;
-  base.omega = in.gyro;
-  base.specific_force = R.transpose() * (a_des - cfg_.gravity);
-  base.alpha = alpha_prev_;
-  Vector6d W = Vector6d::Zero();
-  if (failed(rne_.compute(in.q, in.qd, qdd_cmd_, base, tau_, &W))) {
-    failsafe(out, false);
-    return Status::kSolverFailed;
-  }
-  out.reaction = W;
-
-  // Thrust vector (world) and desired attitude.
   const bool ff = cfg_.reaction_feedforward;
-  const Eigen::Vector3d F = ff ? Eigen::Vector3d(m_body_ * (a_des - cfg_.gravity) +
-                                                 R * W.head<3>())
-                               : Eigen::Vector3d(m_total_ * (a_des - cfg_.gravity));
+
+  // Thrust vector (world) and desired attitude. Only the vertical part of the arm's reaction
+  // force joins it (last tick's: the pass below needs the attitude law's output first): the
+  // horizontal part could only be produced by tilting, which is slower than the arm and is the
+  // very attitude disturbance the feed-forward is meant to remove (measured in aerial-arm-sweep:
+  // feeding the whole vector tilted the body more than no feed-forward at all).
+  Eigen::Vector3d F = m_total_ * (a_des - cfg_.gravity);
+  if (ff) {
+    F = m_body_ * (a_des - cfg_.gravity);
+    F.z() += reaction_z_;
+  }
   AttitudeTarget target;
   double collective = 0.0;
   if (attitude_mode_) {
@@ -378,14 +385,52 @@ Status AerialController::run(const AerialInput& in, AerialOutput& out) noexcept 
   }
   out.quat_des << target.q.w(), target.q.x(), target.q.y(), target.q.z();
 
+  // Attitude law on the body alone (feed-forward on) or on the rigid vehicle (off); alpha is the
+  // angular acceleration it asks of the body.
   AttitudeController& att = ff ? attitude_body_ : attitude_rigid_;
   Eigen::Vector3d tau_body;
   att.step(q, in.gyro, target, saturated_prev_, &tau_body);
   out.attitude_error = att.error();
   const Eigen::Matrix3d& J = att.inertia();
-  // Angular acceleration this torque asks of the body (fed to next tick's reaction).
-  alpha_prev_ = J.ldlt().solve(tau_body - in.gyro.cross(J * in.gyro));
-  if (ff) tau_body += W.tail<3>();
+  const Eigen::Vector3d alpha = J.ldlt().solve(tau_body - in.gyro.cross(J * in.gyro));
+
+  // One RNE pass of the arm on the body moving as measured (rates, accelerometer) and as just
+  // commanded (alpha): the arm's computed torque, and the wrench the body must apply to the arm
+  // for it, which the rotors add (coupled inverse dynamics: body and arm torques for the same
+  // accelerations).
+  qdd_cmd_ = qdd_ref_ + kd_.cwiseProduct(qd_ref_ - in.qd) + kp_.cwiseProduct(q_ref_ - in.q);
+  BaseMotion base;
+  base.v = R.transpose() * in.velocity;
+  base.omega = in.gyro;
+  base.specific_force = cfg_.measured_acceleration ? in.accel
+                                                    : Eigen::Vector3d(R.transpose() *
+                                                                      (a_des - cfg_.gravity));
+  base.alpha = alpha;
+  Vector6d W = Vector6d::Zero();
+  if (failed(rne_.compute(in.q, in.qd, qdd_cmd_, base, tau_, &W))) {
+    failsafe(out, false);
+    return Status::kSolverFailed;
+  }
+  // Friction compensation (acts between arm and body: not part of the reaction).
+  for (int i = 0; i < nq_; ++i) {
+    const double e = q_ref_[i] - in.q[i];
+    const double e_out = std::copysign(std::max(std::abs(e) - cfg_.arm_friction_deadband, 0.0), e);
+    const double v_c = qd_ref_[i] + (kd_[i] > 0 ? kp_[i] / kd_[i] : 0.0) * e_out;
+    tau_[i] += viscous_[i] * in.qd[i] +
+               coulomb_[i] * std::tanh(v_c / cfg_.arm_friction_velocity);
+  }
+  out.reaction = W;
+  reaction_z_ = (R * W.head<3>()).z();
+  if (ff) {
+    const Eigen::Vector3d w_tau = W.tail<3>();
+    if (have_reaction_) {
+      const double a = cfg_.dt / (cfg_.dt + cfg_.reaction_lead_filter);
+      reaction_tau_rate_ += a * ((w_tau - reaction_tau_prev_) / cfg_.dt - reaction_tau_rate_);
+    }
+    reaction_tau_prev_ = w_tau;
+    have_reaction_ = true;
+    tau_body += w_tau + cfg_.reaction_lead * reaction_tau_rate_;
+  }
 
   Eigen::Vector4d wrench;
   wrench << collective, tau_body;

@@ -172,6 +172,9 @@ TEST(AerialController, StepIsAllocationFreeInEveryMode) {
   AerialConfig config;
   config.attitude.gains.ki << 50, 50, 10;
   config.rotors.lag_compensation = true;
+  config.arm_coulomb = Eigen::VectorXd::Constant(1, 0.01);
+  config.arm_viscous = Eigen::VectorXd::Constant(1, 0.01);
+  config.reaction_lead = 0.03;
   AerialController c = make(config);
   AerialInput in = hover_input(c), nan_in = in, ee_in = in, att_in = in;
   nan_in.gyro.x() = kNaN;
@@ -190,6 +193,41 @@ TEST(AerialController, StepIsAllocationFreeInEveryMode) {
     c.step(x, out);
   }
   EXPECT_EQ(scope.count(), 0u);
+}
+
+TEST(AerialController, FrictionCompensationPushesPastBreakawayOutsideTheDeadband) {
+  AerialConfig plain, comp;
+  comp.arm_coulomb = Eigen::VectorXd::Constant(1, 0.01);
+  AerialController a = make(plain), b = make(comp);
+  AerialInput in = hover_input(a);
+  AerialOutput oa = a.make_output(), ob = b.make_output();
+  in.q_ref << 0.05, 0.0, 0.002;  // yaw well outside the deadband, elbow inside it
+  a.step(in, oa);
+  b.step(in, ob);
+  // tanh(10 * 0.045 / 0.05) = tanh(9): the full Coulomb torque towards the target.
+  EXPECT_NEAR(ob.tau[0] - oa.tau[0], 0.01 * std::tanh(9.0), 1e-9);
+  EXPECT_NEAR(ob.tau[2] - oa.tau[2], 0.0, 1e-15);
+}
+
+TEST(AerialController, ReactionLeadAddsTheRateOfTheFedForwardTorque) {
+  AerialConfig lead;
+  lead.reaction_lead = 0.03;
+  lead.reaction_lead_filter = 0.0;  // the raw one-tick rate
+  AerialController a = make(), b = make(lead);
+  AerialInput in = hover_input(a);
+  AerialOutput oa = a.make_output(), ob = b.make_output();
+  in.q << 0.0, 0.5, 0.0;
+  in.q_ref = in.q;
+  a.step(in, oa);
+  b.step(in, ob);
+  const double first = ob.reaction[4];
+  in.q[1] = 0.51;
+  in.q_ref = in.q;
+  a.step(in, oa);
+  b.step(in, ob);
+  const double rate = (ob.reaction[4] - first) / 0.001;
+  EXPECT_GT(std::abs(rate), 0.1);
+  EXPECT_NEAR(ob.wrench[2] - oa.wrench[2], 0.03 * rate, 1e-9);
 }
 
 TEST(AerialController, RejectsBadConfigWithAReason) {

@@ -19,6 +19,11 @@ _MODULES = {
     "quadruped-trot": "quadruped_trot",
     "quadruped-push": "quadruped_push",
     "quadruped-tilt-stop": "quadruped_tilt_stop",
+    "aerial-hover": "aerial_hover",
+    "aerial-attitude-step": "aerial_attitude_step",
+    "aerial-arm-sweep": "aerial_arm_sweep",
+    "aerial-reach": "aerial_reach",
+    "aerial-rotor-fault": "aerial_rotor_fault",
 }
 
 
