@@ -90,7 +90,10 @@ def run(settings: dict, seed: int = 0, duration: float | None = None) -> Scenari
         "diverged_ff": float(bool(on["why"])),
         "diverged_no_ff": float(bool(off["why"])),
     }
-    return ScenarioResult(NAME, metrics, evaluate(CRITERIA, metrics), log, dict(settings))
+    result = ScenarioResult(NAME, metrics, evaluate(CRITERIA, metrics), log, dict(settings))
+    result.settings["divergence"] = "; ".join(
+        f"{tag}: {r['why']}" for tag, r in (("ff", on), ("no ff", off)) if r["why"])
+    return result
 
 
 def plot_signals():

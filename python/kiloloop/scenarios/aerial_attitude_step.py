@@ -60,19 +60,24 @@ def _one(settings, law, seed, duration):
         f"rise_time_s_{law}": float(rise),
         f"diverged_{law}": float(bool(diverged(log))),
     }
+    metrics_reason = diverged(log)
     log.put("roll_deg", np.degrees(roll))
-    return metrics, log
+    return metrics, log, metrics_reason
 
 
 def run(settings: dict, seed: int = 0, duration: float | None = None) -> ScenarioResult:
     duration = DURATION if duration is None else duration
     laws = list(LAWS) if settings["law"] == "both" else [settings["law"]]
-    metrics, log = {}, None
+    metrics, log, reasons = {}, None, []
     for law in laws:
-        m, law_log = _one(settings, law, seed, duration)
+        m, law_log, why = _one(settings, law, seed, duration)
         metrics.update(m)
         log = law_log if log is None else log
-    return ScenarioResult(NAME, metrics, evaluate(_criteria(laws), metrics), log, dict(settings))
+        if why:
+            reasons.append(f"{law}: {why}")
+    result = ScenarioResult(NAME, metrics, evaluate(_criteria(laws), metrics), log, dict(settings))
+    result.settings["divergence"] = "; ".join(reasons)
+    return result
 
 
 def plot_signals():

@@ -101,7 +101,9 @@ def run(settings: dict, seed: int = 0, duration: float | None = None) -> Scenari
         "unreachable_ticks": int(np.sum(log["status"] == int(kl.Status.UNREACHABLE))),
         "diverged": float(bool(reason)),
     }
-    return ScenarioResult(NAME, metrics, evaluate(CRITERIA, metrics), log, dict(settings))
+    result = ScenarioResult(NAME, metrics, evaluate(CRITERIA, metrics), log, dict(settings))
+    result.settings["divergence"] = reason
+    return result
 
 
 def plot_signals():
