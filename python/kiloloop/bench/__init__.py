@@ -175,6 +175,7 @@ def _print_quadruped_sil(q: dict) -> None:
 
 
 def run_benchmarks(quick: bool = False, as_json: bool = False) -> int:
+    from .aerial_bench import print_aerial_bench, run_aerial_bench
     from .qp_bench import print_qp_bench, run_qp_bench
 
     core = core_benchmark(quick)
@@ -182,7 +183,8 @@ def run_benchmarks(quick: bool = False, as_json: bool = False) -> int:
     quadruped = quadruped_sil_benchmark(quick)
     qp = run_qp_bench(quick)
     limits = None if quick else quadruped_limits()
-    report = {"python": sys.version.split()[0], "platform": platform.platform(),
+    aerial = run_aerial_bench(quick)
+    report = {"aerial": aerial, "python": sys.version.split()[0], "platform": platform.platform(),
               "mujoco": mujoco.__version__, "kiloloop": kl.__version__, "core": core, "sil": sil,
               "quadruped_sil": quadruped, "qp": qp, "quadruped_limits": limits}
     if as_json:
@@ -199,6 +201,8 @@ def run_benchmarks(quick: bool = False, as_json: bool = False) -> int:
         if limits is not None:
             print()
             _print_limits(limits)
+        print()
+        print_aerial_bench(aerial)
     return 0
 
 
