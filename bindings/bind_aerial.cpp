@@ -154,7 +154,8 @@ void bind_aerial(py::module_& m) {
 
   py::class_<AerialController>(m, "AerialController",
                                "1 kHz multirotor + arm controller (model: body -> ee chain)")
-      .def(py::init([](std::shared_ptr<RobotModel> model, const std::optional<AerialConfig>& config) {
+      .def(py::init([](std::shared_ptr<RobotModel> model,
+                       const std::optional<AerialConfig>& config) {
              AerialController c;
              std::string why;
              raise_if_failed(AerialController::configure(config.value_or(AerialConfig{}), model, &c,

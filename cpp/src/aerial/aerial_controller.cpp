@@ -304,8 +304,9 @@ Status AerialController::run(const AerialInput& in, AerialOutput& out) noexcept 
     return Status::kBadSize;
   }
   if (!in.position.allFinite() || !in.velocity.allFinite() || !in.quat.allFinite() ||
-      !in.gyro.allFinite() || !in.accel.allFinite() || !in.q.allFinite() || !in.qd.allFinite() || !finite(in.t) ||
-      !finite(in.stamp) || in.quat.norm() < 0.5 || in.quat.norm() > 1.5) {
+      !in.gyro.allFinite() || !in.accel.allFinite() || !in.q.allFinite() ||
+      !in.qd.allFinite() || !finite(in.t) || !finite(in.stamp) || in.quat.norm() < 0.5 ||
+      in.quat.norm() > 1.5) {
     failsafe(out, false);
     return Status::kNonFiniteMeasurement;
   }
@@ -414,7 +415,8 @@ Status AerialController::run(const AerialInput& in, AerialOutput& out) noexcept 
   // Friction compensation (acts between arm and body: not part of the reaction).
   for (int i = 0; i < nq_; ++i) {
     const double e = q_ref_[i] - in.q[i];
-    const double e_out = std::copysign(std::max(std::abs(e) - cfg_.arm_friction_deadband, 0.0), e);
+    const double e_out =
+        std::copysign(std::max(std::abs(e) - cfg_.arm_friction_deadband, 0.0), e);
     const double v_c = qd_ref_[i] + (kd_[i] > 0 ? kp_[i] / kd_[i] : 0.0) * e_out;
     tau_[i] += viscous_[i] * in.qd[i] +
                coulomb_[i] * std::tanh(v_c / cfg_.arm_friction_velocity);

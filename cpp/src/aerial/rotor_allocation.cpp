@@ -86,7 +86,8 @@ Status RotorAllocation::allocate(const Eigen::Vector4d& wrench, Eigen::Vector4d*
       t_lo = std::max(t_lo, (lo - f_rp[i]) / u[i]);
       t_hi = std::min(t_hi, (hi - f_rp[i]) / u[i]);
     }
-    const double collective = t_lo <= t_hi ? std::clamp(wrench[0], t_lo, t_hi) : 0.5 * (t_lo + t_hi);
+    const double collective =
+        t_lo <= t_hi ? std::clamp(wrench[0], t_lo, t_hi) : 0.5 * (t_lo + t_hi);
     const Eigen::Vector4d base = f_rp + u * collective;
     // Yaw last: the largest share k in [0, 1] of its thrust pattern that stays in range.
     const Eigen::Vector4d f_yaw = A_inv_.col(3) * wrench[3];

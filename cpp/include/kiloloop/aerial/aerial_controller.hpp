@@ -1,8 +1,8 @@
 #pragma once
 // AerialController: the 1 kHz controller of a quadrotor carrying a serial arm.
-//   safety -> position PID -> arm reference (joints, or end-effector position by damped IK) ->
-//   arm computed torque with the body's motion (FloatingBaseRne) -> reaction feed-forward ->
-//   thrust vector -> desired attitude -> attitude law -> rotor allocation.
+//   safety -> arm reference (joints, or end-effector position by damped IK) -> position PID ->
+//   thrust vector -> desired attitude -> attitude law -> arm computed torque with the body's
+//   motion and the reaction wrench (FloatingBaseRne, one pass) -> feed-forward -> allocation.
 // The model is the arm's chain from the body link (root, whose own inertia is the body's) to the
 // end effector: RobotModel.from_urdf(path, tip="ee_link"). Body CoM = body link origin.
 //
