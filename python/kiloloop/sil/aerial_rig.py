@@ -258,6 +258,6 @@ AERIAL_PLOT = [("body position", "base_pos", None, "m"),
                ("arm torque", "tau", None, "N m")]
 
 
-def add_derived(log, hover_quat=None) -> None:
+def add_derived(log) -> None:
     """Attitude error vs the commanded attitude (deg), for plots and metrics."""
     log.put("att_err_deg", np.degrees(rotation_vector_error(log["base_quat"], log["quat_des"])))
