@@ -12,3 +12,4 @@ def test_aerial_bench_quick_reports_zero_allocations():
         assert r["allocations_per_call"] == 0, r["name"]
         assert 0 < r["median_ns"] <= r["p99_ns"] <= r["max_ns"]
     assert report["sil"]["real_time_factor"] > 0
+    assert report["crosscheck"]["max_tau_error_Nm"] < 1e-6

@@ -1,6 +1,7 @@
 """Aerial manipulator benchmark: the C++ controller step (kiloloop_bench_aerial: median, p99, max,
-heap allocations per call) and the SIL real-time factor of aerial-hover and aerial-arm-sweep
-(non-idealities on), with the tick cost relative to one raw mj_step of the same model."""
+heap allocations per call), the SIL real-time factor of aerial-hover (non-idealities on) with the
+tick cost relative to one raw mj_step of the same model, and the inverse-dynamics cross-check
+against MuJoCo's mj_inverse."""
 from __future__ import annotations
 
 import json
@@ -46,7 +47,11 @@ def sil_aerial(quick: bool) -> dict:
 
 
 def run_aerial_bench(quick: bool) -> dict:
-    return {"core": core_aerial(quick), "sil": sil_aerial(quick)}
+    from ..sil.aerial_crosscheck import inverse_dynamics_crosscheck
+    from ..sil.aerial_rig import aerial_paths
+
+    return {"core": core_aerial(quick), "sil": sil_aerial(quick),
+            "crosscheck": inverse_dynamics_crosscheck(*aerial_paths(), n=50 if quick else 200)}
 
 
 def print_aerial_bench(report: dict) -> None:
@@ -65,3 +70,9 @@ def print_aerial_bench(report: dict) -> None:
     print(f"  raw mj_step cost                   {sil['raw_mj_step_us']:8.1f} us")
     print(f"  SIL tick / raw mj_step             {sil['tick_over_mj_step']:8.2f}")
     print(f"  controller step via Python         {sil['python_controller_step_us']:8.2f} us")
+    x = report["crosscheck"]
+    print(f"Inverse dynamics vs MuJoCo mj_inverse ({x['states']} random states, moving base, "
+          f"friction off; goal < 1e-6)")
+    print(f"  arm torques, max error             {x['max_tau_error_Nm']:10.2e} N m")
+    print(f"  reaction force, max error          {x['max_force_error_N']:10.2e} N")
+    print(f"  reaction torque, max error         {x['max_torque_error_Nm']:10.2e} N m")
