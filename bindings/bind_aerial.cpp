@@ -105,6 +105,7 @@ void bind_aerial(py::module_& m) {
       .def_readwrite("ik_iterations", &AerialConfig::ik_iterations)
       .def_readwrite("reaction_feedforward", &AerialConfig::reaction_feedforward)
       .def_readwrite("measured_acceleration", &AerialConfig::measured_acceleration)
+      .def_readwrite("hold_com", &AerialConfig::hold_com)
       .def_readwrite("reaction_lead", &AerialConfig::reaction_lead)
       .def_readwrite("reaction_lead_filter", &AerialConfig::reaction_lead_filter)
       .def_readwrite("max_tilt", &AerialConfig::max_tilt)

@@ -159,6 +159,14 @@ Status AerialController::configure(const AerialConfig& config, RobotModelPtr mod
   c.ee_ref_.setZero();
   c.ee_vel_ref_.setZero();
   c.reaction_z_ = (c.m_total_ - c.m_body_) * c.gravity_norm_;  // the arm hanging at rest
+  {
+    Eigen::Vector3d moment;
+    double m_arm = 0.0;
+    const Eigen::VectorXd q_nom =
+        config.arm_q_nominal.size() ? config.arm_q_nominal : Eigen::VectorXd::Zero(nq);
+    c.rne_.first_moment(q_nom, &moment, &m_arm);
+    c.com_nominal_ = moment / c.m_total_;
+  }
   c.configured_ = true;
   *out = std::move(c);
   return Status::kOk;
@@ -185,6 +193,7 @@ void AerialController::reset() noexcept {
   reaction_z_ = (m_total_ - m_body_) * gravity_norm_;
   reaction_tau_rate_.setZero();
   have_reaction_ = false;
+  have_com_ = false;
   allocation_.reset();
   have_ref_ = have_ik_ = false;
   saturated_prev_ = false;
@@ -357,12 +366,25 @@ Status AerialController::run(const AerialInput& in, AerialOutput& out) noexcept 
   }
   out.q_ref = q_ref_;
 
-  // Position loop.
-  Eigen::Vector3d a_des;
-  position_.step(in.position, in.velocity, p_ref_, v_ref_, a_ref_, saturated_prev_, &a_des);
-  out.acceleration_des = a_des;
-
   const bool ff = cfg_.reaction_feedforward;
+
+  // Position loop, on the body origin or (hold_com) on the centre of mass the arm moves.
+  Eigen::Vector3d p_ref = p_ref_, v_ref = v_ref_;
+  if (ff && cfg_.hold_com) {
+    Eigen::Vector3d moment;
+    double m_arm = 0.0;
+    rne_.first_moment(q_ref_, &moment, &m_arm);
+    const Eigen::Vector3d shift = moment / m_total_ - com_nominal_;  // body frame
+    const Eigen::Vector3d rate =
+        have_com_ ? Eigen::Vector3d((shift - com_shift_prev_) / cfg_.dt) : Eigen::Vector3d::Zero();
+    com_shift_prev_ = shift;
+    have_com_ = true;
+    p_ref -= R * shift;
+    v_ref -= R * rate;
+  }
+  Eigen::Vector3d a_des;
+  position_.step(in.position, in.velocity, p_ref, v_ref, a_ref_, saturated_prev_, &a_des);
+  out.acceleration_des = a_des;
 
   // Thrust vector (world) and desired attitude. Only the vertical part of the arm's reaction
   // force joins it (last tick's: the pass below needs the attitude law's output first): the

@@ -57,6 +57,7 @@ TEST(AerialController, FeedForwardCancelsAStaticArmOffset) {
   // Arm held out to the side: the reaction carries its weight torque, so the commanded body
   // torque (before any attitude error) already balances it; without it the torque is zero.
   AerialConfig on, off;
+  on.hold_com = false;  // the body stays the position loop's target: no attitude command
   off.reaction_feedforward = false;
   AerialController a = make(on), b = make(off);
   AerialInput in = hover_input(a);
@@ -75,6 +76,24 @@ TEST(AerialController, FeedForwardCancelsAStaticArmOffset) {
   // The arm's own gravity torque is compensated in both (computed torque with the body's motion).
   EXPECT_GT(std::abs(oa.tau[1]), 0.1);
   EXPECT_NEAR(oa.tau[1], ob.tau[1], 1e-12);
+}
+
+TEST(AerialController, HoldComLetsTheBodyGiveWayToTheArm) {
+  // Arm raised towards -x at the reference: holding the CoM puts the body's target towards +x
+  // by m_arm x_com / m_total; holding the body origin leaves it where it is.
+  AerialConfig com, origin;
+  origin.hold_com = false;
+  AerialController a = make(com), b = make(origin);
+  AerialInput in = hover_input(a);
+  in.q << 0.0, M_PI / 2, 0.0;
+  in.q_ref = in.q;
+  AerialOutput oa = a.make_output(), ob = b.make_output();
+  a.step(in, oa);
+  b.step(in, ob);
+  const double shift = (0.15 * 0.09 + 0.08 * 0.255 + 0.02 * 0.33) / 1.8;  // [m] towards +x
+  // kp_x * shift plus the first tick of the integral, ki_x * dt * shift.
+  EXPECT_NEAR(oa.acceleration_des.x(), (16.0 + 4.0 * 0.001) * shift, 1e-9);
+  EXPECT_NEAR(ob.acceleration_des.x(), 0.0, 1e-12);
 }
 
 TEST(AerialController, TiltBeyondLimitStopsMotorsAndLatches) {

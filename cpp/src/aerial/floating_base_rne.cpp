@@ -92,4 +92,26 @@ Status FloatingBaseRne::compute(const VecRef& q, const VecRef& qd, const VecRef&
   return Status::kOk;
 }
 
+Status FloatingBaseRne::first_moment(const VecRef& q, Eigen::Vector3d* moment,
+                                     double* mass) const noexcept {
+  moment->setZero();
+  *mass = 0.0;
+  if (!model_) return Status::kNotConfigured;
+  if (q.size() != nq_) return Status::kBadSize;
+  if (!q.allFinite()) return Status::kNonFiniteMeasurement;
+  const KDL::Chain& chain = model_->chain();
+  KDL::Frame T = KDL::Frame::Identity();
+  int j = 0;
+  for (unsigned i = 0; i < chain.getNrOfSegments(); ++i) {
+    const KDL::Segment& seg = chain.getSegment(i);
+    const bool moving = seg.getJoint().getType() != KDL::Joint::Fixed;
+    T = T * seg.pose(moving ? q[j++] : 0.0);
+    const double m = seg.getInertia().getMass();
+    const KDL::Vector c = T * seg.getInertia().getCOG();
+    *moment += m * Eigen::Vector3d(c.x(), c.y(), c.z());
+    *mass += m;
+  }
+  return Status::kOk;
+}
+
 }  // namespace kiloloop

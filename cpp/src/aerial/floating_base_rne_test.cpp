@@ -88,6 +88,22 @@ TEST(FloatingBaseRne, RootForceIsTheArmsMomentumRate) {
                                               << acc.transpose();
 }
 
+TEST(FloatingBaseRne, FirstMomentOfTheHangingAndTheRaisedArm) {
+  const RobotModelPtr model = testing::load_aerial();
+  FloatingBaseRne rne = make_rne(model);
+  Eigen::Vector3d moment;
+  double mass = 0.0;
+  ASSERT_EQ(rne.first_moment(Eigen::Vector3d::Zero(), &moment, &mass), Status::kOk);
+  EXPECT_NEAR(mass, 0.30, 1e-12);
+  // Hanging: link1 0.05 at -0.075, link2 0.15 at -0.18, link3 0.08 at -0.345, ee 0.02 at -0.42.
+  const double z = -(0.05 * 0.075 + 0.15 * 0.18 + 0.08 * 0.345 + 0.02 * 0.42);
+  EXPECT_LT((moment - Eigen::Vector3d(0, 0, z)).norm(), 1e-12);
+  // Shoulder at +90 deg: everything below the shoulder swings to -x.
+  ASSERT_EQ(rne.first_moment(Eigen::Vector3d(0, M_PI / 2, 0), &moment, &mass), Status::kOk);
+  EXPECT_NEAR(moment.x(), -(0.15 * 0.09 + 0.08 * 0.255 + 0.02 * 0.33), 1e-12);
+  EXPECT_EQ(rne.first_moment(Eigen::Vector2d::Zero(), &moment, &mass), Status::kBadSize);
+}
+
 TEST(FloatingBaseRne, BadInputsGiveStatusAndZeros) {
   const RobotModelPtr model = testing::load_aerial();
   FloatingBaseRne rne = make_rne(model);

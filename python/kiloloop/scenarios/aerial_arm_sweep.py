@@ -69,7 +69,9 @@ def _one(settings, feedforward, seed, duration):
     return {"ptp": float(np.max(np.ptp(smooth, axis=0))),
             "ptp_raw": float(np.max(np.ptp(err, axis=0))),
             "tilt_ptp": float(np.max(np.ptp(tilt[after], axis=0))),
-            "pos": float(pos_err[after].max()), "why": diverged(log)}, log
+            "pos": float(pos_err[after].max()),
+            "com": float(np.linalg.norm(log["com"] - log["com"][0], axis=1).max()),
+            "why": diverged(log)}, log
 
 
 def run(settings: dict, seed: int = 0, duration: float | None = None) -> ScenarioResult:
@@ -87,6 +89,10 @@ def run(settings: dict, seed: int = 0, duration: float | None = None) -> Scenari
         "tilt_ptp_deg_no_ff": off["tilt_ptp"],
         "max_position_error_m_ff": on["pos"],
         "max_position_error_m_no_ff": off["pos"],
+        # The CoM's largest excursion from where it started: with hold_com (default) the body
+        # gives way to the arm (its position error above) so that this stays small.
+        "max_com_deviation_m_ff": on["com"],
+        "max_com_deviation_m_no_ff": off["com"],
         "diverged_ff": float(bool(on["why"])),
         "diverged_no_ff": float(bool(off["why"])),
     }

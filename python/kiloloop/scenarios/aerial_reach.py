@@ -16,8 +16,10 @@ NAME = "aerial-reach"
 DESCRIPTION = "end effector tracks a straight line (quintic, slerp orientation) while hovering"
 DURATION = 4.5
 # The arm starts bent forward (hanging straight down it is singular for position IK: stretched,
-# and on the yaw axis).
-DEFAULTS = dict(COMMON_DEFAULTS, friction_compensation=True, q_start=[0.0, -0.8, 0.6],
+# and on the yaw axis). The body holds its own position (hold_com off): with the centre of mass
+# held instead, the body gives way to the arm by up to 2.6 cm and the end-effector error grows
+# from 1.1 to 8.3 mm (measured).
+DEFAULTS = dict(COMMON_DEFAULTS, hold_com=False, q_start=[0.0, -0.8, 0.6],
                 displacement=[-0.05, 0.12, 0.08], t_start=0.5, t_move=3.0)
 CRITERIA = {"max_ee_error_m": ("<", 0.01), "diverged": ("<", 0.5)}
 

@@ -230,6 +230,10 @@ class AerialPlant:
         fd = self._free_d
         return self.data.qvel[fd:fd + 3].copy(), self.data.qvel[fd + 3:fd + 6].copy()
 
+    def com(self) -> np.ndarray:
+        """Centre of mass of the whole vehicle (body + arm), world frame (3,) [m]."""
+        return self.data.subtree_com[self._base_id].copy()
+
     def ee_pose(self) -> tuple[np.ndarray, np.ndarray]:
         """End-effector site position (3,) [m] and rotation (3, 3), world frame."""
         return (self.data.site_xpos[self._ee_site].copy(),

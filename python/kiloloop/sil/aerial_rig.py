@@ -49,7 +49,7 @@ class AerialRigSettings:
     velocity_sigma: float = 0.005   # [m/s]
     joint_friction: bool = True     # the overlay's arm friction (False: frictionless plant)
     lag_compensation: bool = False  # rotor-lag lead in the controller's allocation
-    friction_compensation: bool = False  # the controller knows the arm's joint friction
+    friction_compensation: bool = True  # the controller knows the arm's joint friction
     config: object = None           # kl.AerialConfig; None = defaults (+ the model's rotors)
 
 
@@ -126,6 +126,7 @@ class AerialRig:
         log.record("t", t)
         log.record("status", int(status))
         log.record("base_pos", pos)
+        log.record("com", self.plant.com())
         log.record("base_quat", quat)
         log.record("base_vel", vel)
         log.record("base_omega", omega)
@@ -193,10 +194,9 @@ COMMON_DEFAULTS = {
     "feedforward": True,       # arm reaction feed-forward
     "lag_compensation": False, # rotor-lag lead in the allocation (all thrusts)
     "reaction_lead": 0.0,      # [s] lead on the fed-forward reaction torque only
-    # The controller compensates the arm's (identified) joint friction. Off by default: it dithers
-    # the joints against the body (aerial-arm-sweep's feed-forward reduction 64 % -> 55 %); the
-    # end-effector scenario needs it (the light yaw joint sticks otherwise: 8.8 mm vs 1.1 mm).
-    "friction_compensation": False,
+    "hold_com": True,          # with the feed-forward: the position loop holds the CoM
+    # The controller compensates the arm's (identified) joint friction (the overlay's values).
+    "friction_compensation": True,
     "att_kp": 0.0,             # 0: the controller's default (roll/pitch) [1/s^2]
     "att_kd": 0.0,             # 0: default [1/s]
     "att_ki": 0.0,             # roll/pitch integral [1/s^3]
@@ -214,6 +214,7 @@ def config_from_settings(settings: dict) -> "kl.AerialConfig":
     config.attitude.law = getattr(kl.AttitudeLaw, LAWS[settings["law"]])
     config.reaction_feedforward = bool(settings["feedforward"])
     config.reaction_lead = float(settings["reaction_lead"])
+    config.hold_com = bool(settings["hold_com"])
     gains = config.attitude.gains
     kp, kd, ki = np.array(gains.kp), np.array(gains.kd), np.array(gains.ki)
     if settings["att_kp"] > 0:

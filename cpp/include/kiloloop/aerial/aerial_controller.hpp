@@ -54,6 +54,11 @@ struct AerialConfig {
   double ik_damping = 0.01;  // [m] damped least squares lambda of the end-effector IK
   int ik_iterations = 3;     // per tick (warm-started from the last tick's solution)
   bool reaction_feedforward = true;
+  // With the feed-forward on: the position loop holds the vehicle's centre of mass where the
+  // reference puts it with the arm at arm_q_nominal, so the body gives way to the arm's internal
+  // motion (momentum conservation) instead of tilting against its lateral push. The shift comes
+  // from the arm's reference (q_ref, smooth; no encoder noise), its rate by differencing.
+  bool hold_com = true;
   // [s] lead on the fed-forward reaction torque, tau_ff + lead d(tau_ff)/dt: the rotors deliver
   // it through their lag while the arm's reaction is immediate; set it to the rotor time constant
   // to cancel the lag to first order, 0 for none. The rate is low-passed (reaction_lead_filter).
@@ -166,6 +171,9 @@ class AerialController {
   bool have_ref_ = false, have_ik_ = false;
   bool saturated_prev_ = false;
   double reaction_z_ = 0.0;  // [N] last tick's vertical reaction force (world)
+  Eigen::Vector3d com_nominal_ = Eigen::Vector3d::Zero();  // [m] arm's CoM shift at nominal
+  Eigen::Vector3d com_shift_prev_ = Eigen::Vector3d::Zero();  // [m] body frame, last tick
+  bool have_com_ = false;
   Eigen::Vector3d reaction_tau_prev_ = Eigen::Vector3d::Zero();  // [N m] for the lead's rate
   Eigen::Vector3d reaction_tau_rate_ = Eigen::Vector3d::Zero();  // [N m/s] low-passed
   bool have_reaction_ = false;

@@ -52,6 +52,10 @@ class FloatingBaseRne {
   Status compute(const VecRef& q, const VecRef& qd, const VecRef& qdd, const BaseMotion& base,
                  Eigen::Ref<Eigen::VectorXd> tau, Vector6d* wrench_on_arm) noexcept;
 
+  // The arm's first moment of mass sum(m_i c_i) (3) [kg m] at q, in the root (body) frame, and
+  // its mass [kg]: where the arm puts the vehicle's centre of mass.
+  Status first_moment(const VecRef& q, Eigen::Vector3d* moment, double* mass) const noexcept;
+
  private:
   RobotModelPtr model_;
   int nq_ = 0;
