@@ -11,6 +11,8 @@
 // as measured (rates, accelerometer) and as commanded (that angular acceleration) gives the arm's
 // computed torque and the wrench the body must apply to the arm; the rotors add its torque and
 // its vertical force (the lateral force would need a tilt: it is left to the position loop).
+// With it (hold_com), the position loop holds the vehicle's centre of mass rather than the body
+// origin, so the body gives way to the arm's internal motion instead of tilting against it.
 // Off, the vehicle is treated as one rigid body of the total mass with the arm frozen at its
 // nominal pose (the usual multirotor controller) and the arm's motion is a disturbance left to
 // feedback; the arm's computed torque still includes the body's motion.
