@@ -18,4 +18,5 @@ PYBIND11_MODULE(_core, m) {
   bind_planning(m);
   bind_force(m);
   bind_safety(m);
+  bind_aerial(m);
 }

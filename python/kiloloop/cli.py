@@ -59,6 +59,37 @@ def cmd_run(args) -> int:
     return 0 if result.passed else 1
 
 
+def cmd_sweep(args) -> int:
+    from . import sweep
+
+    try:
+        grid = sweep.parse_grid(args.grid)
+        if not grid:
+            raise ValueError("give at least one --grid KEY=V1,V2,...")
+        results = sweep.run_sweep(args.scenario, grid, workers=args.workers, seed=args.seed,
+                                  duration=args.duration)
+    except (KeyError, ValueError) as e:
+        print(f"kiloloop sweep: {e.args[0]}", file=sys.stderr)
+        return 2
+    metric = args.metric or sweep.default_metric(results)
+    out = args.out or f"sweep-{args.scenario}"
+    csv_path = sweep.write_csv(results, f"{out}.csv")
+    png_path = sweep.write_heatmap(results, grid, metric, f"{out}.png",
+                                   title=f"{args.scenario}: {metric}") if metric else None
+    keys = list(grid)
+    print(f"sweep {args.scenario}: {sum(r['passed'] for r in results)}/{len(results)} passed")
+    for r in results:
+        params = " ".join(f"{k}={r['params'][k]}" for k in keys)
+        value = r["metrics"].get(metric, float("nan"))
+        mark = "ok  " if r["passed"] else "FAIL"
+        why = f"  diverged: {r['reason']}" if r["reason"] else ""
+        print(f"  {mark} {params:<40} {metric}={_format_value(value)}{why}")
+    print(f"  csv: {csv_path}")
+    if png_path:
+        print(f"  heat map: {png_path}")
+    return 0
+
+
 def cmd_bench(args) -> int:
     from .bench import run_benchmarks
 
@@ -79,6 +110,18 @@ def main(argv=None) -> int:
     run.add_argument("--plot", metavar="PNG", help="write a plot")
     run.add_argument("--log", metavar="NPZ", help="write the signal log")
     run.set_defaults(func=cmd_run)
+    sweep = sub.add_parser("sweep", help="run a scenario over a grid of settings, in parallel")
+    sweep.add_argument("scenario")
+    sweep.add_argument("--grid", action="append", default=[], metavar="KEY=V1,V2,...",
+                       help="values of one setting (repeatable: every combination runs)")
+    sweep.add_argument("--workers", type=int, default=None,
+                       help="parallel processes (default: the number of cores)")
+    sweep.add_argument("--metric", default=None, help="metric of the heat map (default: the first)")
+    sweep.add_argument("--out", default=None, metavar="PREFIX",
+                       help="writes PREFIX.csv and PREFIX.png (default: sweep-SCENARIO)")
+    sweep.add_argument("--duration", type=float, default=None, help="simulated time per run [s]")
+    sweep.add_argument("--seed", type=int, default=0)
+    sweep.set_defaults(func=cmd_sweep)
     bench = sub.add_parser("bench", help="timing and allocation benchmarks")
     bench.add_argument("--quick", action="store_true", help="fewer calls, for a smoke test")
     bench.add_argument("--json", action="store_true", help="print one JSON object")

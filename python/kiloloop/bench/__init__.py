@@ -175,7 +175,10 @@ def _print_quadruped_sil(q: dict) -> None:
 
 
 def run_benchmarks(quick: bool = False, as_json: bool = False) -> int:
+    from .aerial_bench import print_aerial_bench, run_aerial_bench
     from .arm_bench import print_arm_bench, run_arm_bench
+    from .calibration_bench import print_calibration_bench, run_calibration_bench
+    from .ik_bench import print_ik_bench, run_ik_bench
     from .qp_bench import print_qp_bench, run_qp_bench
 
     core = core_benchmark(quick)
@@ -183,16 +186,14 @@ def run_benchmarks(quick: bool = False, as_json: bool = False) -> int:
     quadruped = quadruped_sil_benchmark(quick)
     qp = run_qp_bench(quick)
     limits = None if quick else quadruped_limits()
-    from .calibration_bench import print_calibration_bench, run_calibration_bench
-    from .ik_bench import print_ik_bench, run_ik_bench
-
     ik = run_ik_bench(quick)
     arm = run_arm_bench(quick)
+    aerial = run_aerial_bench(quick)
     calibration = run_calibration_bench()
     report = {"python": sys.version.split()[0], "platform": platform.platform(),
               "mujoco": mujoco.__version__, "kiloloop": kl.__version__, "core": core, "sil": sil,
               "quadruped_sil": quadruped, "qp": qp, "quadruped_limits": limits, "ik": ik,
-              "calibration": calibration, "arm": arm}
+              "calibration": calibration, "arm": arm, "aerial": aerial}
     if as_json:
         # numpy scalars (from the peers' results) print as plain numbers
         print(json.dumps(report, default=lambda o: o.item() if hasattr(o, "item") else str(o)))
@@ -213,6 +214,8 @@ def run_benchmarks(quick: bool = False, as_json: bool = False) -> int:
         print_calibration_bench(calibration)
         print()
         print_arm_bench(arm)
+        print()
+        print_aerial_bench(aerial)
     return 0
 
 

@@ -23,6 +23,11 @@ _MODULES = {
     "arm-rrt": "arm_rrt",
     "arm-press": "arm_press",
     "arm-estop": "arm_estop",
+    "aerial-hover": "aerial_hover",
+    "aerial-attitude-step": "aerial_attitude_step",
+    "aerial-arm-sweep": "aerial_arm_sweep",
+    "aerial-reach": "aerial_reach",
+    "aerial-rotor-fault": "aerial_rotor_fault",
 }
 
 

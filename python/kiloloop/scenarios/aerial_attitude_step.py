@@ -1,0 +1,84 @@
+"""aerial-attitude-step: a 10 deg roll step in attitude mode (the collective thrust keeps the
+altitude), for both attitude laws (quaternion PD and Lee's SO(3)) unless `--set law=...` picks
+one. Roll is measured on the simulator's true attitude; noise on."""
+from __future__ import annotations
+
+import numpy as np
+
+from ..sil.aerial_rig import (AERIAL_PLOT, COMMON_DEFAULTS, LAWS, add_derived, diverged,
+                              rig_from_settings)
+from . import ScenarioResult, evaluate
+
+NAME = "aerial-attitude-step"
+DESCRIPTION = "10 deg roll step, both attitude laws: overshoot and steady-state error"
+DURATION = 2.5
+DEFAULTS = dict(COMMON_DEFAULTS, law="both", step_deg=10.0, step_time=0.5)
+STEADY_WINDOW = 0.5  # [s] at the end, for the steady-state error
+
+
+def _criteria(laws):
+    out = {}
+    for law in laws:
+        out[f"overshoot_{law}"] = ("<", 0.15)
+        out[f"steady_state_error_rad_{law}"] = ("<", 0.01)
+    return out
+
+
+CRITERIA = _criteria(LAWS)
+
+
+def roll_of(quat):
+    w, x, y, z = quat.T
+    return np.arctan2(2 * (w * x + y * z), 1 - 2 * (x * x + y * y))
+
+
+def _one(settings, law, seed, duration):
+    s = dict(settings, law=law)
+    rig = rig_from_settings(s, seed)
+    hover = rig.hover_pos.copy()
+    step = np.radians(settings["step_deg"])
+    q_step = np.array([np.cos(step / 2), np.sin(step / 2), 0.0, 0.0])
+    t_step = settings["step_time"]
+
+    def command(t, inp):
+        inp.position_ref[:] = hover
+        inp.attitude_mode = True
+        inp.quat_ref[:] = q_step if t >= t_step else (1.0, 0.0, 0.0, 0.0)
+        inp.q_ref[:] = 0.0
+
+    log = rig.run(duration, command)
+    add_derived(log)
+    t, roll = log["t"], roll_of(log["base_quat"])
+    after = t >= t_step
+    end = t >= t[-1] - STEADY_WINDOW
+    peak = float(np.max(roll[after])) if after.any() else float("nan")
+    rise = t[after][np.argmax(roll[after] >= 0.9 * step)] - t_step if np.any(
+        roll[after] >= 0.9 * step) else float("nan")
+    metrics = {
+        f"overshoot_{law}": max(0.0, (peak - step) / step),
+        f"steady_state_error_rad_{law}": float(abs(np.mean(roll[end]) - step)),
+        f"rise_time_s_{law}": float(rise),
+        f"diverged_{law}": float(bool(diverged(log))),
+    }
+    metrics_reason = diverged(log)
+    log.put("roll_deg", np.degrees(roll))
+    return metrics, log, metrics_reason
+
+
+def run(settings: dict, seed: int = 0, duration: float | None = None) -> ScenarioResult:
+    duration = DURATION if duration is None else duration
+    laws = list(LAWS) if settings["law"] == "both" else [settings["law"]]
+    metrics, log, reasons = {}, None, []
+    for law in laws:
+        m, law_log, why = _one(settings, law, seed, duration)
+        metrics.update(m)
+        log = law_log if log is None else log
+        if why:
+            reasons.append(f"{law}: {why}")
+    result = ScenarioResult(NAME, metrics, evaluate(_criteria(laws), metrics), log, dict(settings))
+    result.settings["divergence"] = "; ".join(reasons)
+    return result
+
+
+def plot_signals():
+    return [("roll", "roll_deg", None, "deg")] + AERIAL_PLOT

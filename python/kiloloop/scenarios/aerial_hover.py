@@ -1,0 +1,53 @@
+"""aerial-hover: the aerial manipulator holds a hover point 1 m up with its arm hanging, IMU noise,
+attitude-estimate noise, motion-capture noise, encoder quantization and a 2 ms command delay on.
+Judged after a 1 s settling window."""
+from __future__ import annotations
+
+import numpy as np
+
+from ..sil.aerial_rig import AERIAL_PLOT, COMMON_DEFAULTS, add_derived, diverged, rig_from_settings
+from . import ScenarioResult, evaluate
+
+NAME = "aerial-hover"
+DESCRIPTION = "quadrotor + 3-DoF arm hovers at 1 m; position and attitude error (noise on)"
+DURATION = 5.0
+SETTLE = 1.0  # [s] excluded from the metrics
+DEFAULTS = dict(COMMON_DEFAULTS)
+CRITERIA = {"max_position_error_m": ("<", 0.02), "attitude_error_rms_deg": ("<", 0.5),
+            "diverged": ("<", 0.5)}
+
+
+def hold(rig):
+    hover = rig.hover_pos.copy()
+
+    def command(t, inp):
+        inp.position_ref[:] = hover
+        inp.q_ref[:] = 0.0
+    return command
+
+
+def run(settings: dict, seed: int = 0, duration: float | None = None) -> ScenarioResult:
+    rig = rig_from_settings(settings, seed)
+    log = rig.run(DURATION if duration is None else duration, hold(rig))
+    add_derived(log)
+    t = log["t"]
+    after = t >= min(SETTLE, 0.5 * t[-1])
+    pos_err = np.linalg.norm(log["base_pos"] - log["pos_ref"], axis=1)
+    att = np.linalg.norm(log["att_err_deg"], axis=1)
+    reason = diverged(log)
+    metrics = {
+        "max_position_error_m": float(pos_err[after].max()),
+        "rms_position_error_m": float(np.sqrt(np.mean(pos_err[after] ** 2))),
+        "attitude_error_rms_deg": float(np.sqrt(np.mean(att[after] ** 2))),
+        "attitude_error_max_deg": float(att[after].max()),
+        "mean_thrust_N": float(np.mean(np.sum(log["thrust"][after], axis=1))),
+        "diverged": float(bool(reason)),
+        "failed_ticks": int(np.sum(log["status"] < 0)),
+    }
+    result = ScenarioResult(NAME, metrics, evaluate(CRITERIA, metrics), log, dict(settings))
+    result.settings["divergence"] = reason
+    return result
+
+
+def plot_signals():
+    return AERIAL_PLOT

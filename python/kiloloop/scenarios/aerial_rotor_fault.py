@@ -1,0 +1,45 @@
+"""aerial-rotor-fault: hovering, one rotor (front-left) drops to 70 % efficiency (thrust and drag
+torque) at t = 1 s, unannounced to the controller; its integrators take up the imbalance. Judged
+on the largest distance from the hover point over the whole run."""
+from __future__ import annotations
+
+import numpy as np
+
+from ..sil.aerial_rig import AERIAL_PLOT, COMMON_DEFAULTS, add_derived, diverged, rig_from_settings
+from . import ScenarioResult, evaluate
+from .aerial_hover import hold
+
+NAME = "aerial-rotor-fault"
+DESCRIPTION = "one rotor at 70 % efficiency from t = 1 s: stays airborne, within 10 cm"
+DURATION = 6.0
+DEFAULTS = dict(COMMON_DEFAULTS, rotor=0, efficiency=0.7, fault_time=1.0)
+CRITERIA = {"max_hover_deviation_m": ("<", 0.10), "airborne": (">", 0.5)}
+
+
+def run(settings: dict, seed: int = 0, duration: float | None = None) -> ScenarioResult:
+    rig = rig_from_settings(settings, seed)
+    k, eff = int(settings["rotor"]), float(settings["efficiency"])
+    if not 0 <= k < 4:
+        raise ValueError(f"rotor: expected 0..3, got {k}")
+    events = [(settings["fault_time"], lambda plant: plant.set_efficiency(k, eff))]
+    log = rig.run(DURATION if duration is None else duration, hold(rig), events=events)
+    add_derived(log)
+    dev = np.linalg.norm(log["base_pos"] - log["pos_ref"], axis=1)
+    after = log["t"] >= settings["fault_time"]
+    reason = diverged(log)
+    z = log["base_pos"][:, 2]
+    metrics = {
+        "max_hover_deviation_m": float(dev.max()),
+        "deviation_last_1s_m": float(dev[log["t"] >= log["t"][-1] - 1.0].max()),
+        "min_altitude_m": float(z.min()),
+        "airborne": float(not reason and z.min() > rig.hover_pos[2] - 0.5),
+        "max_thrust_cmd_N": float(log["thrust_cmd"][after].max()) if after.any() else 0.0,
+        "saturated_ticks": int(np.sum(log["rotors_saturated"] > 0)),
+    }
+    result = ScenarioResult(NAME, metrics, evaluate(CRITERIA, metrics), log, dict(settings))
+    result.settings["divergence"] = reason
+    return result
+
+
+def plot_signals():
+    return AERIAL_PLOT

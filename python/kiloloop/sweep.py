@@ -1,0 +1,186 @@
+"""`kiloloop sweep`: a scenario over a grid of settings, one process per run, in parallel.
+
+    kiloloop sweep aerial-hover --grid att_kp=200,400,800 --grid gyro_sigma=0.01,0.05 --workers 2
+
+Every combination of the --grid values runs through the scenario's own `run` (the same criteria
+as `kiloloop run`); each run reports pass/fail, its metrics and, when it diverged (attitude beyond
+60 deg, NaN, solver failure, an exception), the reason. A failed or crashed run never stops the
+sweep. Writes a CSV table (one row per run) and a PNG heat map of one metric over the first two
+grid keys (averaged over any further keys).
+"""
+from __future__ import annotations
+
+import csv
+import itertools
+import math
+import os
+import sys
+import time
+from concurrent.futures import ProcessPoolExecutor, as_completed
+from concurrent.futures.process import BrokenProcessPool
+from pathlib import Path
+
+
+def parse_grid(items: list[str]) -> dict[str, list[str]]:
+    """["k=v1,v2", ...] -> {"k": ["v1", "v2"]} (values stay strings: the scenario converts them)."""
+    grid: dict[str, list[str]] = {}
+    for item in items:
+        if "=" not in item:
+            raise ValueError(f"--grid {item!r}: expected KEY=V1,V2,...")
+        key, values = item.split("=", 1)
+        vals = [v for v in values.split(",") if v != ""]
+        if not key or not vals:
+            raise ValueError(f"--grid {item!r}: expected KEY=V1,V2,...")
+        if key in grid:
+            raise ValueError(f"--grid {key!r} given twice")
+        grid[key] = vals
+    return grid
+
+
+def combinations(grid: dict[str, list[str]]) -> list[dict[str, str]]:
+    keys = list(grid)
+    return [dict(zip(keys, values)) for values in itertools.product(*(grid[k] for k in keys))]
+
+
+def _divergence(result) -> str:
+    reason = result.settings.get("divergence", "") if isinstance(result.settings, dict) else ""
+    if reason:
+        return str(reason)
+    for name, value in result.metrics.items():
+        if name.startswith("diverged") and value:
+            return name
+        if isinstance(value, float) and math.isnan(value):
+            return f"NaN metric {name}"
+    return ""
+
+
+def run_one(scenario: str, params: dict, seed: int, duration: float | None) -> dict:
+    """One run in a worker process; never raises (an exception becomes the failure reason)."""
+    start = time.perf_counter()
+    try:
+        from . import scenarios
+
+        module = scenarios.get(scenario)
+        settings = scenarios.parse_settings(module.DEFAULTS, params)
+        result = module.run(settings, seed=seed, duration=duration)
+        metrics = {k: float(v) for k, v in result.metrics.items()}
+        return {"params": params, "passed": bool(result.passed), "metrics": metrics,
+                "reason": _divergence(result), "wall_s": time.perf_counter() - start}
+    except Exception as e:  # noqa: BLE001 - a sweep records every failure and goes on
+        return {"params": params, "passed": False, "metrics": {},
+                "reason": f"error: {type(e).__name__}: {e}", "wall_s": time.perf_counter() - start}
+
+
+def _progress(done: int, total: int, failed: int, stream) -> None:
+    width = 30
+    filled = int(width * done / total) if total else width
+    stream.write(f"\r[{'#' * filled}{'.' * (width - filled)}] {done}/{total}  failed {failed}")
+    if done == total:
+        stream.write("\n")
+    stream.flush()
+
+
+def run_sweep(scenario: str, grid: dict[str, list[str]], workers: int | None = None,
+              seed: int = 0, duration: float | None = None, stream=sys.stderr) -> list[dict]:
+    """All combinations, `workers` processes (default: the machine's cores); results in grid
+    order. A worker that dies takes only its own run with it."""
+    from . import scenarios
+
+    module = scenarios.get(scenario)  # unknown scenario: KeyError before any process starts
+    for key in grid:
+        if key not in module.DEFAULTS:
+            raise ValueError(f"unknown setting {key!r}; known: {', '.join(sorted(module.DEFAULTS))}")
+    combos = combinations(grid)
+    workers = max(1, int(workers or os.cpu_count() or 1))
+    results: list[dict | None] = [None] * len(combos)
+    failed = 0
+    _progress(0, len(combos), 0, stream)
+    with ProcessPoolExecutor(max_workers=workers) as pool:
+        futures = {pool.submit(run_one, scenario, p, seed, duration): i for i, p in enumerate(combos)}
+        for done, future in enumerate(as_completed(futures), 1):
+            i = futures[future]
+            try:
+                results[i] = future.result()
+            except BrokenProcessPool as e:  # the worker process itself died (e.g. a crash)
+                results[i] = {"params": combos[i], "passed": False, "metrics": {},
+                              "reason": f"worker died: {e}", "wall_s": float("nan")}
+            failed += not results[i]["passed"]
+            _progress(done, len(combos), failed, stream)
+    return results  # type: ignore[return-value]
+
+
+def write_csv(results: list[dict], path) -> Path:
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    keys = list(results[0]["params"]) if results else []
+    metrics = sorted({m for r in results for m in r["metrics"]})
+    with open(path, "w", newline="") as f:
+        w = csv.writer(f)
+        w.writerow(keys + ["passed", "reason", "wall_s"] + metrics)
+        for r in results:
+            w.writerow([r["params"][k] for k in keys] + [int(r["passed"]), r["reason"],
+                                                          f"{r['wall_s']:.3f}"] +
+                       [repr(r["metrics"].get(m, float("nan"))) for m in metrics])
+    return path
+
+
+def write_heatmap(results: list[dict], grid: dict[str, list[str]], metric: str, path,
+                  title: str = "") -> Path:
+    """Mean of `metric` over the first two grid keys (one row when there is one key); failed
+    runs are hatched with their reason's first word."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    import numpy as np
+
+    keys = list(grid)
+    xk = keys[0]
+    yk = keys[1] if len(keys) > 1 else None
+    xs, ys = grid[xk], (grid[yk] if yk else [""])
+    total = np.zeros((len(ys), len(xs)))
+    count = np.zeros((len(ys), len(xs)))
+    failed = np.zeros((len(ys), len(xs)), dtype=bool)
+    for r in results:
+        i = ys.index(r["params"][yk]) if yk else 0
+        j = xs.index(r["params"][xk])
+        value = r["metrics"].get(metric, float("nan"))
+        if not r["passed"]:
+            failed[i, j] = True
+        if value == value:  # not NaN
+            total[i, j] += value
+            count[i, j] += 1
+    with np.errstate(invalid="ignore"):
+        grid_values = np.where(count > 0, total / np.maximum(count, 1), np.nan)
+    fig, ax = plt.subplots(figsize=(1.6 + 1.1 * len(xs), 1.4 + 0.8 * len(ys)))
+    im = ax.imshow(np.ma.masked_invalid(grid_values), cmap="viridis", aspect="auto")
+    fig.colorbar(im, ax=ax, label=metric)
+    lo, hi = np.nanmin(grid_values), np.nanmax(grid_values)
+    for i in range(len(ys)):
+        for j in range(len(xs)):
+            v = grid_values[i, j]
+            text = "n/a" if v != v else f"{v:.3g}"
+            # Light text on the dark end of viridis, dark text on the light end.
+            light = v != v or hi <= lo or (v - lo) / (hi - lo) < 0.6
+            ax.text(j, i, text + ("\nFAIL" if failed[i, j] else ""), ha="center", va="center",
+                    color="w" if light else "k", fontsize=8)
+    ax.set_xticks(range(len(xs)), xs)
+    ax.set_xlabel(xk)
+    ax.set_yticks(range(len(ys)), ys)
+    if yk:
+        ax.set_ylabel(yk)
+    extra = f" (mean over {', '.join(keys[2:])})" if len(keys) > 2 else ""
+    ax.set_title((title or metric) + extra, fontsize=9)
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+    return path
+
+
+def default_metric(results: list[dict]) -> str:
+    for r in results:
+        if r["metrics"]:
+            return next(iter(r["metrics"]))
+    return ""
