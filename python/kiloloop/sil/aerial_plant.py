@@ -18,8 +18,10 @@ from pathlib import Path
 import mujoco
 import numpy as np
 
-from .floating_plant import _fixed, _unit_quat
-from .plant import _INTEGRATORS, _add_joints_and_motors, _load_overlay, _urdf_joints
+from .floating_base import FloatingBaseReadout, add_free_base, add_imu
+from .floating_base import fixed as _fixed
+from .floating_base import unit_quat as _unit_quat
+from .plant import _add_joints_and_motors, _load_overlay, _spec_from_urdf, _urdf_joints
 
 _DEFAULTS = {
     "physics": {"timestep": 0.001, "integrator": "implicitfast", "gravity": [0.0, 0.0, -9.81]},
@@ -31,7 +33,6 @@ _DEFAULTS = {
     "imu": {"body": None, "site": "imu", "pos": [0.0, 0.0, 0.0]},
     "ee": {"body": "ee_link", "site": "ee_site"},
 }
-_FREE_JOINT = "floating_base"
 
 
 def load_overlay(overlay) -> dict:
@@ -61,7 +62,7 @@ def rotor_geometry(cfg: dict) -> dict:
     return out
 
 
-class AerialPlant:
+class AerialPlant(FloatingBaseReadout):
     """A quadrotor with a torque-controlled arm: rotor thrust commands [N] and joint torques [N m]."""
 
     n_rotors = 4
@@ -87,23 +88,9 @@ class AerialPlant:
         self.nq = len(self.joint_names)
         self.effort = effort
 
-        spec = mujoco.MjSpec.from_file(str(urdf_path))
-        spec.compiler.fusestatic = False  # keep ee_link a body: the ee site is looked up on it
-        spec.compiler.inertiafromgeom = mujoco.mjtInertiaFromGeom.mjINERTIAFROMGEOM_FALSE
-        spec.compiler.discardvisual = True
-        integrator = str(phys["integrator"]).lower()
-        if integrator not in _INTEGRATORS:
-            raise ValueError(f"integrator: expected one of {sorted(_INTEGRATORS)}, "
-                             f"got {integrator!r}")
-        spec.option.integrator = _INTEGRATORS[integrator]
-        spec.option.timestep = float(phys["timestep"])
-        spec.option.gravity = np.asarray(phys["gravity"], dtype=float)
-
-        root = spec.worldbody.first_body()
-        if root is None:
-            raise ValueError(f"{urdf_path}: no links")
+        spec = _spec_from_urdf(urdf_path, phys)
+        root = add_free_base(spec, urdf_path)
         self.base_body = root.name
-        root.add_freejoint(name=_FREE_JOINT)
         # Free flight: no floor and no self-collision (the arm may pass under the body).
         for geom in spec.geoms:
             geom.contype, geom.conaffinity = 0, 0
@@ -131,18 +118,7 @@ class AerialPlant:
             act.ctrlrange = [rot["thrust_min"], rot["thrust_max"]]
             self.rotor_names.append(name)
 
-        imu = cfg["imu"]
-        imu_body = spec.body(imu["body"] or self.base_body)
-        if imu_body is None:
-            raise ValueError(f"imu.body: no link named {imu['body']!r} in {urdf_path}")
-        self.imu_site = imu["site"]
-        imu_body.add_site(name=self.imu_site, pos=_fixed(imu["pos"], (3,), "imu.pos"))
-        site = mujoco.mjtObj.mjOBJ_SITE
-        for kind, stype in (("gyro", mujoco.mjtSensor.mjSENS_GYRO),
-                            ("accel", mujoco.mjtSensor.mjSENS_ACCELEROMETER),
-                            ("quat", mujoco.mjtSensor.mjSENS_FRAMEQUAT)):
-            spec.add_sensor(name=f"{self.imu_site}_{kind}", type=stype, objtype=site,
-                            objname=self.imu_site)
+        self.imu_site = add_imu(spec, cfg["imu"], self.base_body, urdf_path)
         ee_body = spec.body(cfg["ee"]["body"])
         if ee_body is None:
             raise ValueError(f"ee.body: no link named {cfg['ee']['body']!r} in {urdf_path}")
@@ -154,31 +130,15 @@ class AerialPlant:
         self.data = mujoco.MjData(self.model)
         self._scratch = mujoco.MjData(self.model)
 
+        self._index_floating_base()
         m = self.model
-        jid = [m.joint(n).id for n in self.joint_names]
-        self._qadr = m.jnt_qposadr[jid].copy()
-        self._dadr = m.jnt_dofadr[jid].copy()
-        free = m.joint(_FREE_JOINT)
-        self._free_q = int(free.qposadr[0])
-        self._free_d = int(free.dofadr[0])
-        self._act = np.array([m.actuator(n).id for n in self.joint_names])
         self._rotor_act = np.array([m.actuator(n).id for n in self.rotor_names])
-        self._pos_sens = np.array([m.sensor_adr[m.sensor(f"{n}_pos").id] for n in self.joint_names])
-        self._vel_sens = np.array([m.sensor_adr[m.sensor(f"{n}_vel").id] for n in self.joint_names])
-        self._imu_adr = {k: int(m.sensor_adr[m.sensor(f"{self.imu_site}_{k}").id])
-                         for k in ("gyro", "accel", "quat")}
-        self._base_id = m.body(self.base_body).id
         self._ee_site = m.site(self.ee_site).id
-        self.total_mass = float(mujoco.mj_getTotalmass(m))
         q0 = jcfg["q0"]
         self.q0 = np.zeros(self.nq) if q0 is None else _fixed(q0, (self.nq,), "q0")
         self.base_pos0 = _fixed(cfg["base"]["pos0"], (3,), "base.pos0")
         self.base_quat0 = _unit_quat(cfg["base"]["quat0"], "base.quat0")
         self.reset()
-
-    @property
-    def timestep(self) -> float:
-        return float(self.model.opt.timestep)
 
     def reset(self, q=None, base_pos=None, base_quat=None, thrust=None) -> None:
         """Arm at q (default q0), body at base_pos/base_quat, at rest; the rotors' filtered thrust
@@ -187,11 +147,7 @@ class AerialPlant:
         mujoco.mj_resetData(self.model, self.data)
         d = self.data
         d.qpos[self._qadr] = self.q0 if q is None else _fixed(q, (self.nq,), "q")
-        fq = self._free_q
-        d.qpos[fq:fq + 3] = self.base_pos0 if base_pos is None else _fixed(base_pos, (3,),
-                                                                           "base_pos")
-        d.qpos[fq + 3:fq + 7] = (self.base_quat0 if base_quat is None
-                                 else _unit_quat(base_quat, "base_quat"))
+        self._set_base_pose(d, base_pos, base_quat)
         hover = self.total_mass * abs(self.model.opt.gravity[2]) / self.n_rotors
         f0 = np.full(self.n_rotors, hover) if thrust is None else _fixed(thrust, (4,), "thrust")
         d.ctrl[self._rotor_act] = f0
@@ -200,35 +156,7 @@ class AerialPlant:
         d.act[adr[has_act]] = f0[has_act]
         mujoco.mj_forward(self.model, d)
 
-    # --- sensors ------------------------------------------------------------------------------
-
-    def q(self) -> np.ndarray:
-        """Arm encoder positions (nq,) [rad]."""
-        return self.data.sensordata[self._pos_sens].copy()
-
-    def qd(self) -> np.ndarray:
-        """Arm encoder velocities (nq,) [rad/s]."""
-        return self.data.sensordata[self._vel_sens].copy()
-
-    def imu(self) -> dict:
-        """Ideal IMU: "gyro" (3,) [rad/s] and "accel" (3,) [m/s^2] specific force, body frame;
-        "quat" (4,) w, x, y, z, world <- body."""
-        s, a = self.data.sensordata, self._imu_adr
-        return {"gyro": s[a["gyro"]:a["gyro"] + 3].copy(),
-                "accel": s[a["accel"]:a["accel"] + 3].copy(),
-                "quat": s[a["quat"]:a["quat"] + 4].copy()}
-
-    # --- ground truth -------------------------------------------------------------------------
-
-    def base_pose(self) -> tuple[np.ndarray, np.ndarray]:
-        """Body origin (= body CoM) position (3,) [m] and quat (4,) w, x, y, z, world <- body."""
-        fq = self._free_q
-        return self.data.qpos[fq:fq + 3].copy(), self.data.qpos[fq + 3:fq + 7].copy()
-
-    def base_velocity(self) -> tuple[np.ndarray, np.ndarray]:
-        """Body origin linear velocity, world frame (3,) [m/s]; angular velocity, body frame (3,)."""
-        fd = self._free_d
-        return self.data.qvel[fd:fd + 3].copy(), self.data.qvel[fd + 3:fd + 6].copy()
+    # --- ground truth beyond the mixin's (joint_q/q, imu, base_pose, base_velocity) ---------
 
     def com(self) -> np.ndarray:
         """Centre of mass of the whole vehicle (body + arm), world frame (3,) [m]."""
@@ -242,9 +170,6 @@ class AerialPlant:
     def rotor_thrust(self) -> np.ndarray:
         """Thrust each rotor produces now (4,) [N] (after the lag and the efficiency)."""
         return self.data.actuator_force[self._rotor_act].copy()
-
-    def time(self) -> float:
-        return float(self.data.time)
 
     # --- commands -----------------------------------------------------------------------------
 

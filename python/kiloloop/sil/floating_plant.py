@@ -18,7 +18,10 @@ from pathlib import Path
 import mujoco
 import numpy as np
 
-from .plant import _INTEGRATORS, _add_joints_and_motors, _urdf_joints
+from .floating_base import FloatingBaseReadout, add_free_base, add_imu
+from .floating_base import fixed as _fixed
+from .floating_base import unit_quat as _unit_quat
+from .plant import _add_joints_and_motors, _spec_from_urdf, _urdf_joints
 from .plant import _load_overlay as _load_plant_overlay
 
 _FEET = ("FL_foot", "FR_foot", "RL_foot", "RR_foot")
@@ -35,7 +38,6 @@ _DEFAULTS = {
 }
 _CONES = {"pyramidal": mujoco.mjtCone.mjCONE_PYRAMIDAL,
           "elliptic": mujoco.mjtCone.mjCONE_ELLIPTIC}
-_FREE_JOINT = "floating_base"
 _FLOOR = "floor"
 # MuJoCo's default torsional and rolling friction; only the sliding coefficient is configured.
 _SPIN_ROLL = (0.005, 0.0001)
@@ -45,30 +47,13 @@ def _load_overlay(overlay) -> dict:
     return _load_plant_overlay(overlay, _DEFAULTS)
 
 
-def _fixed(x, shape: tuple, name: str) -> np.ndarray:
-    arr = np.asarray(x, dtype=float)
-    if arr.shape != shape:
-        raise ValueError(f"{name}: expected shape {shape}, got {arr.shape}")
-    if not np.all(np.isfinite(arr)):
-        raise ValueError(f"{name}: non-finite value")
-    return arr
-
-
-def _unit_quat(x, name: str) -> np.ndarray:
-    q = _fixed(x, (4,), name)
-    norm = np.linalg.norm(q)
-    if norm < 1e-9:
-        raise ValueError(f"{name}: zero quaternion")
-    return q / norm
-
-
 def _quat_mul(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     out = np.zeros(4)
     mujoco.mju_mulQuat(out, a, b)
     return out
 
 
-class FloatingBasePlant:
+class FloatingBasePlant(FloatingBaseReadout):
     """A torque-controlled MuJoCo model of a floating-base (legged) URDF robot on a floor."""
 
     def __init__(self, urdf_path, overlay=None, *, timestep=None, slope_deg=None, floor=None,
@@ -99,21 +84,7 @@ class FloatingBasePlant:
         self.nq = len(self.joint_names)
         self.effort = effort
 
-        spec = mujoco.MjSpec.from_file(str(urdf_path))
-        # Keep fixed-joint children (the feet) as bodies: their contacts and poses are looked up
-        # by link name.
-        spec.compiler.fusestatic = False
-        # Inertia comes only from <inertial>, never from the collision primitives.
-        spec.compiler.inertiafromgeom = mujoco.mjtInertiaFromGeom.mjINERTIAFROMGEOM_FALSE
-        spec.compiler.discardvisual = True
-
-        integrator = str(phys["integrator"]).lower()
-        if integrator not in _INTEGRATORS:
-            raise ValueError(f"integrator: expected one of {sorted(_INTEGRATORS)}, "
-                             f"got {integrator!r}")
-        spec.option.integrator = _INTEGRATORS[integrator]
-        spec.option.timestep = float(phys["timestep"])
-        spec.option.gravity = np.asarray(phys["gravity"], dtype=float)
+        spec = _spec_from_urdf(urdf_path, phys)
         # Friction cone and its stiffness: MuJoCo's soft friction lets a loaded foot creep; see
         # sim.toml for the measured creep under each setting.
         cone = str(phys["cone"]).lower()
@@ -129,12 +100,7 @@ class FloatingBasePlant:
             raise ValueError(f"noslip_iterations: expected >= 0, got {noslip}")
         spec.option.noslip_iterations = noslip
 
-        # The URDF root link is the only child of the world; it gets the six free DoFs.
-        root = spec.worldbody.first_body()
-        if root is None:
-            raise ValueError(f"{urdf_path}: no links")
-        self.base_body = root.name
-        root.add_freejoint(name=_FREE_JOINT)
+        self.base_body = add_free_base(spec, urdf_path).name
 
         # Robot geoms: contype 0, conaffinity 1. The floor (contype 1) hits them, but two robot
         # geoms never collide: legs may cross the trunk's box without a self-contact.
@@ -162,42 +128,19 @@ class FloatingBasePlant:
 
         _add_joints_and_motors(spec, self.joint_names, effort, jcfg, cfg["actuators"])
 
-        imu = cfg["imu"]
-        imu_body = spec.body(imu["body"] or self.base_body)
-        if imu_body is None:
-            raise ValueError(f"imu.body: no link named {imu['body']!r} in {urdf_path}")
-        self.imu_site = imu["site"]
-        imu_body.add_site(name=self.imu_site, pos=_fixed(imu["pos"], (3,), "imu.pos"))
-        site = mujoco.mjtObj.mjOBJ_SITE
-        for kind, stype in (("gyro", mujoco.mjtSensor.mjSENS_GYRO),
-                            ("accel", mujoco.mjtSensor.mjSENS_ACCELEROMETER),
-                            ("quat", mujoco.mjtSensor.mjSENS_FRAMEQUAT)):
-            spec.add_sensor(name=f"{self.imu_site}_{kind}", type=stype, objtype=site,
-                            objname=self.imu_site)
+        self.imu_site = add_imu(spec, cfg["imu"], self.base_body, urdf_path)
 
         self.spec = spec  # kept for inspection, e.g. plant.spec.to_xml()
         self.model = spec.compile()
         self.data = mujoco.MjData(self.model)
 
+        self._index_floating_base()
         m = self.model
-        jid = [m.joint(n).id for n in self.joint_names]
-        self._qadr = m.jnt_qposadr[jid].copy()
-        self._dadr = m.jnt_dofadr[jid].copy()
-        free = m.joint(_FREE_JOINT)
-        self._free_q = int(free.qposadr[0])
-        self._free_d = int(free.dofadr[0])
-        self._act = np.array([m.actuator(n).id for n in self.joint_names])
-        self._pos_sens = np.array([m.sensor_adr[m.sensor(f"{n}_pos").id] for n in self.joint_names])
-        self._vel_sens = np.array([m.sensor_adr[m.sensor(f"{n}_vel").id] for n in self.joint_names])
-        self._imu_adr = {k: int(m.sensor_adr[m.sensor(f"{self.imu_site}_{k}").id])
-                         for k in ("gyro", "accel", "quat")}
-        self._base_id = m.body(self.base_body).id
         self._foot_ids = np.array([m.body(f).id for f in self.feet])
         # geom id -> foot index (or -1), for the contact bookkeeping
         self._geom_foot = np.full(m.ngeom, -1)
         for k, bid in enumerate(self._foot_ids):
             self._geom_foot[m.geom_bodyid == bid] = k
-        self.total_mass = float(mujoco.mj_getTotalmass(m))
 
         q0 = jcfg["q0"]
         self.q0 = np.zeros(self.nq) if q0 is None else self._vector(q0, "q0")
@@ -218,10 +161,6 @@ class FloatingBasePlant:
         self.reset()
 
     # --- configuration ---------------------------------------------------------------------
-
-    @property
-    def timestep(self) -> float:
-        return float(self.model.opt.timestep)
 
     def _vector(self, x, name: str) -> np.ndarray:
         return _fixed(x, (self.nq,), name)
@@ -250,11 +189,7 @@ class FloatingBasePlant:
         mujoco.mj_resetData(self.model, self.data)
         d = self.data
         d.qpos[self._qadr] = self.q0 if q is None else self._vector(q, "q")
-        fq = self._free_q
-        d.qpos[fq:fq + 3] = self.base_pos0 if base_pos is None else _fixed(base_pos, (3,),
-                                                                           "base_pos")
-        d.qpos[fq + 3:fq + 7] = (self.base_quat0 if base_quat is None
-                                 else _unit_quat(base_quat, "base_quat"))
+        self._set_base_pose(d, base_pos, base_quat)
         self._push_force = np.zeros(3)
         self._push_steps = 0
         self._pushing = False  # mj_resetData cleared xfrc_applied
@@ -262,41 +197,7 @@ class FloatingBasePlant:
         mujoco.mj_forward(self.model, d)
         self._foot_forces = self._contact_forces()
 
-    # --- sensors (what a robot measures) -----------------------------------------------------
-
-    def joint_q(self) -> np.ndarray:
-        """Joint encoder positions (nq,) [rad]."""
-        return self.data.sensordata[self._pos_sens].copy()
-
-    def joint_qd(self) -> np.ndarray:
-        """Joint encoder velocities (nq,) [rad/s]."""
-        return self.data.sensordata[self._vel_sens].copy()
-
-    # The names the fixed-base SIL loop (sil/loop.py) expects of a plant.
-    q = joint_q
-    qd = joint_qd
-
-    def imu(self) -> dict:
-        """Ideal IMU at the IMU site: "gyro" (3,) [rad/s] and "accel" (3,) [m/s^2] in the body
-        frame, the accelerometer reading specific force (+g up at rest); "quat" (4,) w, x, y, z,
-        world <- body."""
-        s, a = self.data.sensordata, self._imu_adr
-        return {"gyro": s[a["gyro"]:a["gyro"] + 3].copy(),
-                "accel": s[a["accel"]:a["accel"] + 3].copy(),
-                "quat": s[a["quat"]:a["quat"] + 4].copy()}
-
-    # --- ground truth (what only the simulator knows) ----------------------------------------
-
-    def base_pose(self) -> tuple[np.ndarray, np.ndarray]:
-        """Trunk origin position (3,) [m] and orientation quat (4,) w, x, y, z, world <- trunk."""
-        fq = self._free_q
-        return self.data.qpos[fq:fq + 3].copy(), self.data.qpos[fq + 3:fq + 7].copy()
-
-    def base_velocity(self) -> tuple[np.ndarray, np.ndarray]:
-        """Trunk origin linear velocity in the world frame (3,) [m/s] and angular velocity in the
-        trunk frame (3,) [rad/s] (MuJoCo's free-joint convention)."""
-        fd = self._free_d
-        return self.data.qvel[fd:fd + 3].copy(), self.data.qvel[fd + 3:fd + 6].copy()
+    # --- ground truth (what only the simulator knows; base_pose/base_velocity: mixin) ---------
 
     def foot_positions(self) -> np.ndarray:
         """Foot link origins (the contact spheres' centres) in the world frame (n_feet, 3) [m]."""
@@ -314,9 +215,6 @@ class FloatingBasePlant:
     def ground_height(self, x: float) -> float:
         """Floor height [m] at world x (the plane contains the world y axis)."""
         return float(x) * np.tan(self.slope)
-
-    def time(self) -> float:
-        return float(self.data.time)
 
     # --- commands ----------------------------------------------------------------------------
 

@@ -91,6 +91,36 @@ def _add_joints_and_motors(spec, joint_names, effort, jcfg: dict, actuators: dic
                         objtype=mujoco.mjtObj.mjOBJ_JOINT, objname=name)
 
 
+def _spec_from_urdf(urdf_path: Path, phys: dict):
+    """The URDF as an MjSpec with the compiler settings every plant uses, and the overlay's
+    integrator, timestep and gravity."""
+    spec = mujoco.MjSpec.from_file(str(urdf_path))
+    # The URDF importer fuses fixed-joint children (tool0, the feet) into their parent by default;
+    # keep them as bodies: sites, poses and contacts are looked up by link name.
+    spec.compiler.fusestatic = False
+    # Inertia comes only from <inertial>, never from the collision primitives.
+    spec.compiler.inertiafromgeom = mujoco.mjtInertiaFromGeom.mjINERTIAFROMGEOM_FALSE
+    spec.compiler.discardvisual = True
+    integrator = str(phys["integrator"]).lower()
+    if integrator not in _INTEGRATORS:
+        raise ValueError(f"integrator: expected one of {sorted(_INTEGRATORS)}, "
+                         f"got {integrator!r}")
+    spec.option.integrator = _INTEGRATORS[integrator]
+    spec.option.timestep = float(phys["timestep"])
+    spec.option.gravity = np.asarray(phys["gravity"], dtype=float)
+    return spec
+
+
+def _joint_addresses(m, joint_names) -> tuple[np.ndarray, ...]:
+    """qpos and dof addresses, motor ids and encoder sensor addresses of the named joints (as
+    built by _add_joints_and_motors)."""
+    jid = [m.joint(n).id for n in joint_names]
+    return (m.jnt_qposadr[jid].copy(), m.jnt_dofadr[jid].copy(),
+            np.array([m.actuator(n).id for n in joint_names]),
+            np.array([m.sensor_adr[m.sensor(f"{n}_pos").id] for n in joint_names]),
+            np.array([m.sensor_adr[m.sensor(f"{n}_vel").id] for n in joint_names]))
+
+
 class MujocoPlant:
     """A torque-controlled MuJoCo model of a fixed-base URDF robot."""
 
@@ -111,21 +141,7 @@ class MujocoPlant:
         self.joint_names, effort = _urdf_joints(urdf_path)
         self.nq = len(self.joint_names)
 
-        spec = mujoco.MjSpec.from_file(str(urdf_path))
-        # The URDF importer fuses fixed-joint children (tool0) into their parent by default; keep
-        # them so the end-effector site sits on the URDF frame itself.
-        spec.compiler.fusestatic = False
-        # Inertia comes only from <inertial>, never from the collision primitives.
-        spec.compiler.inertiafromgeom = mujoco.mjtInertiaFromGeom.mjINERTIAFROMGEOM_FALSE
-        spec.compiler.discardvisual = True
-
-        integrator = str(phys["integrator"]).lower()
-        if integrator not in _INTEGRATORS:
-            raise ValueError(f"integrator: expected one of {sorted(_INTEGRATORS)}, "
-                             f"got {integrator!r}")
-        spec.option.integrator = _INTEGRATORS[integrator]
-        spec.option.timestep = float(phys["timestep"])
-        spec.option.gravity = np.asarray(phys["gravity"], dtype=float)
+        spec = _spec_from_urdf(urdf_path, phys)
 
         # Robot geoms: contype 0, conaffinity 1. Environment geoms (floor, obstacles; default
         # contype 1) hit them, but two robot geoms never collide, adjacent or not.
@@ -155,12 +171,8 @@ class MujocoPlant:
         self._scratch = mujoco.MjData(self.model)
 
         m = self.model
-        jid = [m.joint(n).id for n in self.joint_names]
-        self._qadr = m.jnt_qposadr[jid].copy()
-        self._dadr = m.jnt_dofadr[jid].copy()
-        self._act = np.array([m.actuator(n).id for n in self.joint_names])
-        self._pos_sens = np.array([m.sensor_adr[m.sensor(f"{n}_pos").id] for n in self.joint_names])
-        self._vel_sens = np.array([m.sensor_adr[m.sensor(f"{n}_vel").id] for n in self.joint_names])
+        (self._qadr, self._dadr, self._act, self._pos_sens,
+         self._vel_sens) = _joint_addresses(m, self.joint_names)
         self._site = m.site(self.ee_site).id
         q0 = jcfg["q0"]
         self.q0 = np.zeros(self.nq) if q0 is None else self._vector(q0, "q0")
