@@ -110,3 +110,10 @@ def test_version_is_single_sourced():
     assert kl.__version__ == version("kiloloop")
     repo_version = Path(__file__).resolve().parents[1] / "VERSION"
     assert kl.__version__ == repo_version.read_text().strip()
+
+
+def test_model_files_names_each_robots_urdf_and_overlay():
+    for robot in ("ur5", "quadruped", "aerial_manipulator"):
+        urdf, overlay = kl.model_files(robot)
+        assert urdf.is_file() and urdf.name == f"{robot}.urdf"
+        assert overlay.is_file() and overlay.name == "sim.toml"

@@ -15,3 +15,9 @@ from ._core import qp  # noqa: F401  (kl.qp.solve, kl.qp.DenseQpSolver)
 def models_dir() -> _Path:
     """Directory holding the robot models (URDF + sim overlay), installed with the package."""
     return _Path(str(_files("kiloloop") / "models"))
+
+
+def model_files(robot: str) -> tuple[_Path, _Path]:
+    """A robot's URDF and its simulator overlay: models/<robot>/<robot>.urdf and sim.toml."""
+    base = models_dir() / robot
+    return base / f"{robot}.urdf", base / "sim.toml"

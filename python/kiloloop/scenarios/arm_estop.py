@@ -70,8 +70,7 @@ class SupervisedTick:
 
 def run(settings: dict, seed: int = 0, duration: float | None = None) -> ScenarioResult:
     del seed  # deterministic
-    base = kl.models_dir() / "ur5"
-    urdf, overlay = base / "ur5.urdf", base / "sim.toml"
+    urdf, overlay = kl.model_files("ur5")
     plant = MujocoPlant(urdf, overlay)
     model = kl.RobotModel.from_urdf(str(urdf))
     v_max = np.asarray(model.velocity_limit) * settings["velocity_scale"]

@@ -35,11 +35,6 @@ CRITERIA = {
 }
 
 
-def _ur5_paths():
-    base = kl.models_dir() / "ur5"
-    return base / "ur5.urdf", base / "sim.toml"
-
-
 def _rotation(rotvec) -> np.ndarray:
     """Rotation matrix of a rotation vector (Rodrigues)."""
     w = np.asarray(rotvec, dtype=float)
@@ -89,7 +84,7 @@ def make_line(model, q0, settings):
 
 def run(settings: dict, seed: int = 0, duration: float | None = None) -> ScenarioResult:
     del seed  # deterministic: no noise in this scenario
-    urdf, overlay = _ur5_paths()
+    urdf, overlay = kl.model_files("ur5")
     plant = MujocoPlant(urdf, overlay, timestep=settings["physics_dt"])
     model = kl.RobotModel.from_urdf(str(urdf))
     line = make_line(model, plant.q0, settings)

@@ -116,8 +116,7 @@ def _make_controller(model, settings):
 
 def run(settings: dict, seed: int = 0, duration: float | None = None) -> ScenarioResult:
     del seed  # deterministic
-    base = kl.models_dir() / "ur5"
-    urdf, overlay = base / "ur5.urdf", base / "sim.toml"
+    urdf, overlay = kl.model_files("ur5")
     model = kl.RobotModel.from_urdf(str(urdf))
     q0 = np.asarray(settings["q0"], dtype=float)
     tip = arm_scene.ToolTip(friction=settings["friction"])

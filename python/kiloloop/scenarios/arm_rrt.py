@@ -76,8 +76,7 @@ def plan(model, urdf, settings, seed: int):
 
 
 def run(settings: dict, seed: int = 0, duration: float | None = None) -> ScenarioResult:
-    base = kl.models_dir() / "ur5"
-    urdf, overlay = base / "ur5.urdf", base / "sim.toml"
+    urdf, overlay = kl.model_files("ur5")
     model = kl.RobotModel.from_urdf(str(urdf))
     trajectory, result, checker = plan(model, urdf, settings, seed + 1)
     metrics = {"planned": int(trajectory is not None)}

@@ -45,11 +45,6 @@ CRITERIA = {
 }
 
 
-def _ur5_paths():
-    base = kl.models_dir() / "ur5"
-    return base / "ur5.urdf", base / "sim.toml"
-
-
 def _default_gains(kind, model, q0):
     if kind == "computed_torque":
         return [OMEGA_N ** 2], [2.0 * OMEGA_N]
@@ -95,7 +90,7 @@ class JointTrackingTick:
 
 def run(settings: dict, seed: int = 0, duration: float | None = None) -> ScenarioResult:
     del seed  # deterministic: no noise in this scenario
-    urdf, overlay = _ur5_paths()
+    urdf, overlay = kl.model_files("ur5")
     plant = MujocoPlant(urdf, overlay, timestep=settings["physics_dt"], damping=settings["damping"],
                         frictionloss=settings["frictionloss"], armature=settings["armature"])
     model = kl.RobotModel.from_urdf(str(urdf))

@@ -24,8 +24,7 @@ CONTROL_DT = 0.001  # [s]
 
 
 def aerial_paths():
-    base = kl.models_dir() / "aerial_manipulator"
-    return base / "aerial_manipulator.urdf", base / "sim.toml"
+    return kl.model_files("aerial_manipulator")
 
 
 def rotor_config(overlay=None) -> "kl.RotorAllocationConfig":

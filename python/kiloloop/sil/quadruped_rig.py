@@ -28,8 +28,7 @@ class RigSettings:
 
 
 def quadruped_paths():
-    base = kl.models_dir() / "quadruped"
-    return base / "quadruped.urdf", base / "sim.toml"
+    return kl.model_files("quadruped")
 
 
 # command(t) -> (gait 0/1, velocity command (3,)); events: (time [s], action(plant)) run once.
