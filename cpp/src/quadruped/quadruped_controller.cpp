@@ -43,7 +43,8 @@ Status QuadrupedController::configure(const QuadrupedConfig& config, RobotModelP
   if (!(config.dt > 0) || !(config.body_height > 0) || !(config.trust_ramp >= 0) ||
       !(config.load_ramp >= 0) || !(config.max_position_lag >= 0) || !(config.swing_height >= 0) ||
       !(config.max_tilt > 0) || !(config.max_measurement_age > 0) || !(config.foot_radius >= 0))
-    return fail("quadruped config: dt, body_height, max_tilt, max_measurement_age must be > 0");
+    return fail("quadruped config: dt, body_height, max_tilt, max_measurement_age must be > 0; "
+                "swing_height, foot_radius, trust_ramp, load_ramp, max_position_lag >= 0");
   QuadrupedController c;
   c.cfg_ = config;
   c.model_ = model;
