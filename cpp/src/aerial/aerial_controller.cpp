@@ -56,7 +56,7 @@ Status validate(const AerialConfig& c, int nq, std::string* why) {
     return fail("arm_q_nominal must be empty or nq finite values");
   if (!(finite(c.ik_damping) && c.ik_damping > 0)) return fail("ik_damping must be > 0");
   if (c.ik_iterations < 1 || c.ik_iterations > 50) return fail("ik_iterations must be in [1, 50]");
-  if (!(finite(c.max_tilt) && c.max_tilt > 0 && c.max_tilt < 3.2))
+  if (!(finite(c.max_tilt) && c.max_tilt > 0 && c.max_tilt <= 3.14159265358979323846))
     return fail("max_tilt must be in (0, pi] rad");
   if (!(finite(c.max_measurement_age) && c.max_measurement_age > 0))
     return fail("max_measurement_age must be > 0");
@@ -221,20 +221,20 @@ Status AerialController::step(const AerialInput& in, AerialOutput& out) noexcept
   return s;
 }
 
-bool AerialController::load_references(const AerialInput& in) noexcept {
+Status AerialController::load_references(const AerialInput& in) noexcept {
   const bool arm_joint = in.arm_mode == 0;
+  if (arm_joint && (in.q_ref.size() != nq_ || in.qd_ref.size() != nq_ || in.qdd_ref.size() != nq_))
+    return Status::kBadSize;
   bool good = in.position_ref.allFinite() && in.velocity_ref.allFinite() &&
               in.acceleration_ref.allFinite() && finite(in.yaw_ref) &&
               (in.arm_mode == 0 || in.arm_mode == 1);
   if (in.attitude_mode) good = good && in.quat_ref.allFinite() && in.quat_ref.norm() > 0.5;
   if (arm_joint) {
-    good = good && in.q_ref.size() == nq_ && in.qd_ref.size() == nq_ &&
-           in.qdd_ref.size() == nq_ && in.q_ref.allFinite() && in.qd_ref.allFinite() &&
-           in.qdd_ref.allFinite();
+    good = good && in.q_ref.allFinite() && in.qd_ref.allFinite() && in.qdd_ref.allFinite();
   } else {
     good = good && in.ee_position_ref.allFinite() && in.ee_velocity_ref.allFinite();
   }
-  if (!good) return false;
+  if (!good) return Status::kNonFiniteReference;
   p_ref_ = in.position_ref;
   v_ref_ = in.velocity_ref;
   a_ref_ = in.acceleration_ref;
@@ -253,7 +253,7 @@ bool AerialController::load_references(const AerialInput& in) noexcept {
   }
   arm_mode_ = in.arm_mode;
   have_ref_ = true;
-  return true;
+  return Status::kOk;
 }
 
 // End-effector mode: damped least-squares IK on the position, in the body frame, warm-started;
@@ -308,6 +308,19 @@ Status AerialController::run(const AerialInput& in, AerialOutput& out) noexcept 
     failsafe(out, true);
     return Status::kSafeStop;
   }
+  // Tilt first, from any usable orientation: a vehicle past the limit stops its motors even when
+  // another signal is bad at the same time (a NaN gyro must not keep it flying upside down).
+  const double quat_norm = in.quat.norm();
+  if (in.quat.allFinite() && quat_norm >= 0.5 && quat_norm <= 1.5) {
+    const double c = (in.quat[0] * in.quat[0] - in.quat[1] * in.quat[1] - in.quat[2] * in.quat[2] +
+                      in.quat[3] * in.quat[3]) / (quat_norm * quat_norm);  // R(2, 2)
+    out.tilt = std::acos(std::clamp(c, -1.0, 1.0));
+    if (out.tilt > cfg_.max_tilt) {
+      safe_stop_ = true;
+      failsafe(out, true);
+      return Status::kSafeStop;
+    }
+  }
   if (in.q.size() != nq_ || in.qd.size() != nq_) {
     failsafe(out, false);
     return Status::kBadSize;
@@ -326,17 +339,12 @@ Status AerialController::run(const AerialInput& in, AerialOutput& out) noexcept 
   }
   const Eigen::Quaterniond q =
       Eigen::Quaterniond(in.quat[0], in.quat[1], in.quat[2], in.quat[3]).normalized();
-  const Eigen::Matrix3d R = q.toRotationMatrix();
-  out.tilt = std::acos(std::clamp(R(2, 2), -1.0, 1.0));
-  if (out.tilt > cfg_.max_tilt) {
-    safe_stop_ = true;
-    failsafe(out, true);
-    return Status::kSafeStop;
-  }
+  const Eigen::Matrix3d R = q.toRotationMatrix();  // (the tilt was checked above)
 
   Status status = Status::kOk;
-  if (!load_references(in)) {
-    status = Status::kNonFiniteReference;
+  const Status references = load_references(in);
+  if (references != Status::kOk) {
+    status = references;
     if (!have_ref_) {
       // Nothing valid yet: hold where we are, arm where it is.
       p_ref_ = in.position;
@@ -370,7 +378,7 @@ Status AerialController::run(const AerialInput& in, AerialOutput& out) noexcept 
 
   // Position loop, on the body origin or (hold_com) on the centre of mass the arm moves.
   Eigen::Vector3d p_ref = p_ref_, v_ref = v_ref_;
-  if (ff && cfg_.hold_com) {
+  if (cfg_.hold_com) {
     Eigen::Vector3d moment;
     double m_arm = 0.0;
     rne_.first_moment(q_ref_, &moment, &m_arm);
@@ -380,7 +388,7 @@ Status AerialController::run(const AerialInput& in, AerialOutput& out) noexcept 
     com_shift_prev_ = shift;
     have_com_ = true;
     p_ref -= R * shift;
-    v_ref -= R * rate;
+    v_ref -= R * (rate + in.gyro.cross(shift));  // d/dt (R shift), gyro = body angular rate
   }
   Eigen::Vector3d a_des;
   position_.step(in.position, in.velocity, p_ref, v_ref, a_ref_, saturated_prev_, &a_des);

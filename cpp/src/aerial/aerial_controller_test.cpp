@@ -59,6 +59,7 @@ TEST(AerialController, FeedForwardCancelsAStaticArmOffset) {
   AerialConfig on, off;
   on.hold_com = false;  // the body stays the position loop's target: no attitude command
   off.reaction_feedforward = false;
+  off.hold_com = false;
   AerialController a = make(on), b = make(off);
   AerialInput in = hover_input(a);
   in.q << 0.0, 1.0, 0.0;
@@ -153,8 +154,21 @@ TEST(AerialController, BadReferenceHoldsTheLastValidOne) {
   EXPECT_EQ(std::memcmp(out.thrust.data(), ref_out.thrust.data(), sizeof(double) * 4), 0);
   bad = in;
   bad.q_ref.resize(1);
-  EXPECT_EQ(d.step(bad, out), Status::kNonFiniteReference);
+  EXPECT_EQ(d.step(bad, out), Status::kBadSize);
   EXPECT_TRUE(out.thrust.allFinite());
+}
+
+TEST(AerialController, TiltBeyondTheLimitStopsTheMotorsEvenWithAnotherBadSignal) {
+  // Upside down with a NaN gyro: the tilt still trips the latched motor stop (not the
+  // hover-thrust failsafe of a bad measurement).
+  AerialController c = make();
+  AerialInput in = hover_input(c);
+  AerialOutput out = c.make_output();
+  in.quat << 0.0, 1.0, 0.0, 0.0;
+  in.gyro.x() = kNaN;
+  EXPECT_EQ(c.step(in, out), Status::kSafeStop);
+  EXPECT_EQ(out.thrust.norm(), 0.0);
+  EXPECT_EQ(c.step(hover_input(c), out), Status::kSafeStop);  // latched
 }
 
 TEST(AerialController, EndEffectorModeReachesATargetBelow) {
@@ -194,24 +208,31 @@ TEST(AerialController, StepIsAllocationFreeInEveryMode) {
   config.arm_coulomb = Eigen::VectorXd::Constant(1, 0.01);
   config.arm_viscous = Eigen::VectorXd::Constant(1, 0.01);
   config.reaction_lead = 0.03;
-  AerialController c = make(config);
-  AerialInput in = hover_input(c), nan_in = in, ee_in = in, att_in = in;
-  nan_in.gyro.x() = kNaN;
-  ee_in.arm_mode = 1;
-  ee_in.ee_position_ref << 0.1, 0.0, 0.65;
-  att_in.attitude_mode = true;
-  att_in.quat_ref << std::cos(0.087), std::sin(0.087), 0.0, 0.0;
-  AerialOutput out = c.make_output();
-  c.step(in, out);
-  c.step(ee_in, out);
-  testing::AllocationScope scope;
-  for (int k = 0; k < 10000; ++k) {
-    AerialInput& x = k % 100 == 0 ? nan_in : (k % 3 == 0 ? ee_in : (k % 3 == 1 ? att_in : in));
-    x.t = x.stamp = 0.001 * k;
-    x.q[k % 3] = 1e-3 * (k % 17);
-    c.step(x, out);
+  // Every branch: with and without the reaction feed-forward and the CoM hold.
+  for (const bool ff : {true, false}) {
+    for (const bool hold : {true, false}) {
+      config.reaction_feedforward = ff;
+      config.hold_com = hold;
+      AerialController c = make(config);
+      AerialInput in = hover_input(c), nan_in = in, ee_in = in, att_in = in;
+      nan_in.gyro.x() = kNaN;
+      ee_in.arm_mode = 1;
+      ee_in.ee_position_ref << 0.1, 0.0, 0.65;
+      att_in.attitude_mode = true;
+      att_in.quat_ref << std::cos(0.087), std::sin(0.087), 0.0, 0.0;
+      AerialOutput out = c.make_output();
+      c.step(in, out);
+      c.step(ee_in, out);
+      testing::AllocationScope scope;
+      for (int k = 0; k < 10000; ++k) {
+        AerialInput& x = k % 100 == 0 ? nan_in : (k % 3 == 0 ? ee_in : (k % 3 == 1 ? att_in : in));
+        x.t = x.stamp = 0.001 * k;
+        x.q[k % 3] = 1e-3 * (k % 17);
+        c.step(x, out);
+      }
+      EXPECT_EQ(scope.count(), 0u) << "feed-forward " << ff << ", hold_com " << hold;
+    }
   }
-  EXPECT_EQ(scope.count(), 0u);
 }
 
 TEST(AerialController, FrictionCompensationPushesPastBreakawayOutsideTheDeadband) {

@@ -193,7 +193,7 @@ COMMON_DEFAULTS = {
     "feedforward": True,       # arm reaction feed-forward
     "lag_compensation": False, # rotor-lag lead in the allocation (all thrusts)
     "reaction_lead": 0.0,      # [s] lead on the fed-forward reaction torque only
-    "hold_com": True,          # with the feed-forward: the position loop holds the CoM
+    "hold_com": True,          # the position loop holds the vehicle's CoM (not the body origin)
     # The controller compensates the arm's (identified) joint friction (the overlay's values).
     "friction_compensation": True,
     "att_kp": 0.0,             # 0: the controller's default (roll/pitch) [1/s^2]

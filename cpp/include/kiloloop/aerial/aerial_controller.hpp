@@ -11,11 +11,12 @@
 // as measured (rates, accelerometer) and as commanded (that angular acceleration) gives the arm's
 // computed torque and the wrench the body must apply to the arm; the rotors add its torque and
 // its vertical force (the lateral force would need a tilt: it is left to the position loop).
-// With it (hold_com), the position loop holds the vehicle's centre of mass rather than the body
-// origin, so the body gives way to the arm's internal motion instead of tilting against it.
 // Off, the vehicle is treated as one rigid body of the total mass with the arm frozen at its
 // nominal pose (the usual multirotor controller) and the arm's motion is a disturbance left to
 // feedback; the arm's computed torque still includes the body's motion.
+// Separately (hold_com, with or without the feed-forward), the position loop can hold the
+// vehicle's centre of mass rather than the body origin, so the body gives way to the arm's
+// internal motion instead of tilting against it.
 #include <string>
 
 #include <Eigen/Core>
@@ -56,10 +57,10 @@ struct AerialConfig {
   double ik_damping = 0.01;  // [m] damped least squares lambda of the end-effector IK
   int ik_iterations = 3;     // per tick (warm-started from the last tick's solution)
   bool reaction_feedforward = true;
-  // With the feed-forward on: the position loop holds the vehicle's centre of mass where the
-  // reference puts it with the arm at arm_q_nominal, so the body gives way to the arm's internal
-  // motion (momentum conservation) instead of tilting against its lateral push. The shift comes
-  // from the arm's reference (q_ref, smooth; no encoder noise), its rate by differencing.
+  // The position loop holds the vehicle's centre of mass where the reference puts it with the arm
+  // at arm_q_nominal, so the body gives way to the arm's internal motion (momentum conservation)
+  // instead of tilting against its lateral push. Independent of reaction_feedforward. The shift
+  // comes from the arm's reference (q_ref, smooth; no encoder noise), its rate by differencing.
   bool hold_com = true;
   // [s] lead on the fed-forward reaction torque, tau_ff + lead d(tau_ff)/dt: the rotors deliver
   // it through their lag while the arm's reaction is immediate; set it to the rotor time constant
@@ -147,7 +148,9 @@ class AerialController {
  private:
   Status run(const AerialInput& in, AerialOutput& out) noexcept;
   void failsafe(AerialOutput& out, bool motors_off) noexcept;
-  bool load_references(const AerialInput& in) noexcept;
+  // kOk, kBadSize (arm references of the wrong size) or kNonFiniteReference; on failure the
+  // previous references stay.
+  Status load_references(const AerialInput& in) noexcept;
   Status arm_target(const Eigen::Matrix3d& R, const AerialInput& in) noexcept;
 
   AerialConfig cfg_;
