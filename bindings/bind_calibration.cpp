@@ -44,7 +44,9 @@ void bind_calibration(py::module_& m) {
       .def_readwrite("step_tolerance", &CalibrationConfig::step_tolerance)
       .def_readwrite("rank_tolerance", &CalibrationConfig::rank_tolerance)
       .def_readwrite("finite_difference", &CalibrationConfig::finite_difference)
-      .def_readwrite("identify_beta", &CalibrationConfig::identify_beta);
+      .def_readwrite("identify_beta", &CalibrationConfig::identify_beta)
+      .def_readwrite("length_range", &CalibrationConfig::length_range)
+      .def_readwrite("angle_range", &CalibrationConfig::angle_range);
 
   py::class_<CalibrationResult>(m, "CalibrationResult")
       .def_readonly("parameters", &CalibrationResult::parameters)

@@ -121,6 +121,31 @@ TEST(KinematicCalibration, WithoutBetaTheParallelAxisTiltCannotBeFitted) {
   EXPECT_GT(without.rms_residual, 2 * with_beta.rms_residual);
 }
 
+// O1 is a per-pose figure: with twice the poses from the same distribution it stays put (with
+// unit-norm columns it fell as 1/sqrt(m), 0.71x here).
+TEST(KinematicCalibration, ObservabilityIndexDoesNotDropWhenThePoseCountDoubles) {
+  const unsigned seed = 59;
+  std::mt19937 rng(seed);
+  const KinematicParameters nominal = ur5_nominal();
+  const Data few = measure(nominal, 100, 1e-4, rng);
+  const Data many = measure(nominal, 200, 1e-4, rng);
+  CalibrationResult r_few, r_many;
+  std::string why;
+  ASSERT_EQ(calibrate_kinematics(nominal, few.q, few.p, CalibrationConfig{}, &r_few, &why), Status::kOk);
+  ASSERT_EQ(calibrate_kinematics(nominal, many.q, many.p, CalibrationConfig{}, &r_many, &why), Status::kOk);
+  std::printf("seed %u: O1 %.4f mm (100 poses), %.4f mm (200 poses)\n", seed, r_few.observability_index,
+              r_many.observability_index);
+  EXPECT_EQ(r_few.rank, r_many.rank);
+  EXPECT_GT(r_many.observability_index, 0.9 * r_few.observability_index);
+  EXPECT_LT(r_many.observability_index, 1.1 * r_few.observability_index);
+  // Coarser ranges scale every retained singular value, and so O1, by the same factor.
+  CalibrationConfig coarse;
+  coarse.length_range = coarse.angle_range = 2e-3;
+  CalibrationResult r_coarse;
+  ASSERT_EQ(calibrate_kinematics(nominal, few.q, few.p, coarse, &r_coarse, &why), Status::kOk);
+  EXPECT_NEAR(r_coarse.observability_index, 2 * r_few.observability_index, 1e-9);
+}
+
 TEST(KinematicCalibration, RejectsBadData) {
   const KinematicParameters nominal = ur5_nominal();
   CalibrationResult res;
@@ -132,6 +157,9 @@ TEST(KinematicCalibration, RejectsBadData) {
   p(1, 1) = NAN;
   EXPECT_EQ(calibrate_kinematics(nominal, Eigen::MatrixXd::Zero(6, 10), p, CalibrationConfig{}, &res, &why),
             Status::kNonFiniteMeasurement);
+  CalibrationConfig no_range;
+  no_range.angle_range = 0.0;
+  EXPECT_EQ(validate(no_range, &why), Status::kInvalidConfig);
 }
 
 }  // namespace
