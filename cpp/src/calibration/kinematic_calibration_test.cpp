@@ -1,13 +1,14 @@
 // Kinematic calibration of a UR5 whose true geometry differs from the nominal DH table:
 // identification from 0.1 mm-noisy positions, checked on held-out configurations.
 #include <cmath>
+#include <fstream>
 #include <random>
+#include <sstream>
 
 #include <gtest/gtest.h>
 
 #include "kiloloop/calibration/kinematic_calibration.hpp"
 #include "kiloloop/kinematics/chain_kinematics.hpp"
-#include "kiloloop/kinematics/ur_analytic_ik.hpp"
 #include "test_models.hpp"
 
 namespace kiloloop {
@@ -16,14 +17,11 @@ namespace {
 constexpr double kPi = 3.14159265358979323846;
 
 KinematicParameters ur5_nominal() {
-  UrAnalyticIk ik;
-  std::string why;
-  EXPECT_EQ(UrAnalyticIk::from_model(*testing::load_ur5(), &ik, &why), Status::kOk) << why;
   KinematicParameters k;
+  std::string why;
   // A target 5 cm out from the flange, as a tracker reflector would be.
-  EXPECT_EQ(KinematicParameters::from_dh(ik.parameters().table(), DhConvention::kStandard,
-                                         Eigen::Vector3d(0, 0, 0.05), &k, &why),
-            Status::kOk);
+  EXPECT_EQ(KinematicParameters::from_ur_model(*testing::load_ur5(), Eigen::Vector3d(0, 0, 0.05), &k, &why),
+            Status::kOk) << why;
   return k;
 }
 
@@ -77,6 +75,52 @@ TEST(KinematicParameters, NominalUr5EqualsTheModelsForwardKinematics) {
   }
   // UR joints 2, 3, 4 are parallel to their predecessors: beta is identified there only.
   EXPECT_EQ(k.has_beta, (std::vector<bool>{false, false, true, true, false, false}));
+}
+
+// A UR5 mounted with an offset before joint 1 (xyz and rpy on shoulder_pan_joint's origin): the
+// parameters carry that base, so they reproduce the model's own FK.
+TEST(KinematicParameters, FromUrModelCarriesTheBaseTransform) {
+  std::ifstream file(testing::ur5_urdf_path());
+  std::stringstream text;
+  text << file.rdbuf();
+  std::string xml = text.str();
+  const std::string joint1 = "<child link=\"shoulder_link\"/>\n    <origin xyz=\"0 0 0\" rpy=\"0 0 0\"/>";
+  const auto at = xml.find(joint1);
+  ASSERT_NE(at, std::string::npos);
+  xml.replace(at, joint1.size(),
+              "<child link=\"shoulder_link\"/>\n    <origin xyz=\"0.3 -0.2 0.5\" rpy=\"0.4 -0.3 2.5\"/>");
+  RobotModel model;
+  std::string why;
+  ASSERT_EQ(model_from_urdf_string(xml, "", "", &model, &why), Status::kOk) << why;
+  const Eigen::Vector3d tool_point(0.01, -0.02, 0.05);
+  KinematicParameters k;
+  ASSERT_EQ(KinematicParameters::from_ur_model(model, tool_point, &k, &why), Status::kOk) << why;
+  ChainKinematics kin;
+  ASSERT_EQ(ChainKinematics::configure(model, &kin, &why), Status::kOk);
+  const unsigned seed = 61;
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> u(-kPi, kPi);
+  double worst = 0.0, worst_without_base = 0.0;
+  KinematicParameters no_base = k;
+  no_base.base_position.setZero();
+  no_base.base_rotation.setZero();
+  for (int j = 0; j < 50; ++j) {
+    Eigen::VectorXd q(6);
+    for (int i = 0; i < 6; ++i) q[i] = u(rng);
+    Eigen::Isometry3d T;
+    kin.forward(q, T);
+    worst = std::max(worst, (k.position(q) - T * tool_point).norm());
+    worst_without_base = std::max(worst_without_base, (no_base.position(q) - T * tool_point).norm());
+  }
+  std::printf("seed %u: worst FK deviation %.3g m (%.3g m with the base dropped)\n", seed, worst,
+              worst_without_base);
+  EXPECT_LT(worst, 1e-9);
+  EXPECT_GT(worst_without_base, 0.1);  // the offset is real: dropping it is visible
+  // A chain that is not UR-shaped is refused with a reason.
+  RobotModel planar;
+  ASSERT_EQ(model_from_dh(testing::PlanarArm{}.table(), DhConvention::kStandard, &planar, &why), Status::kOk);
+  EXPECT_EQ(KinematicParameters::from_ur_model(planar, tool_point, &k, &why), Status::kModelError);
+  EXPECT_FALSE(why.empty());
 }
 
 TEST(KinematicCalibration, RecoversThePerturbedUr5ToBelowHalfAMillimetre) {
