@@ -1,7 +1,6 @@
 // Kinematic calibration (offline): parameters, identification, residuals.
 #include "common.hpp"
 #include "kiloloop/calibration/kinematic_calibration.hpp"
-#include "kiloloop/kinematics/ur_analytic_ik.hpp"
 
 namespace kiloloop::py_glue {
 
@@ -11,18 +10,14 @@ void bind_calibration(py::module_& m) {
       .def_static(
           "from_ur_model",
           [](std::shared_ptr<RobotModel> model, const Eigen::Vector3d& tool_point) {
-            UrAnalyticIk ik;
-            std::string why;
             if (!model) throw py::value_error("model is None");
-            raise_if_failed(UrAnalyticIk::from_model(*model, &ik, &why), why);
             KinematicParameters k;
-            raise_if_failed(KinematicParameters::from_dh(ik.parameters().table(),
-                                                         DhConvention::kStandard, tool_point, &k, &why),
-                            why);
+            std::string why;
+            raise_if_failed(KinematicParameters::from_ur_model(*model, tool_point, &k, &why), why);
             return k;
           },
           py::arg("model"), py::arg("tool_point") = Eigen::Vector3d::Zero(),
-          "Nominal parameters of a UR-shaped model (DH read off the model), tool point in tool0")
+          "Nominal parameters of a UR-shaped model (DH and base read off the model), tool point in tool0")
       .def_property_readonly("nq", &KinematicParameters::nq)
       .def_property_readonly("has_beta", [](const KinematicParameters& k) { return k.has_beta; })
       .def_property(
@@ -44,7 +39,9 @@ void bind_calibration(py::module_& m) {
       .def_readwrite("step_tolerance", &CalibrationConfig::step_tolerance)
       .def_readwrite("rank_tolerance", &CalibrationConfig::rank_tolerance)
       .def_readwrite("finite_difference", &CalibrationConfig::finite_difference)
-      .def_readwrite("identify_beta", &CalibrationConfig::identify_beta);
+      .def_readwrite("identify_beta", &CalibrationConfig::identify_beta)
+      .def_readwrite("length_range", &CalibrationConfig::length_range)
+      .def_readwrite("angle_range", &CalibrationConfig::angle_range);
 
   py::class_<CalibrationResult>(m, "CalibrationResult")
       .def_readonly("parameters", &CalibrationResult::parameters)

@@ -16,6 +16,8 @@ Status validate(const CalibrationConfig& c, std::string* why) {
   if (!(c.rank_tolerance > 0.0 && c.rank_tolerance < 1.0)) return fail("rank_tolerance must be in (0, 1)");
   if (!(c.finite_difference > 0.0 && c.finite_difference < 1e-2))
     return fail("finite_difference must be in (0, 1e-2)");
+  if (!(c.length_range > 0.0 && std::isfinite(c.length_range))) return fail("length_range must be > 0");
+  if (!(c.angle_range > 0.0 && std::isfinite(c.angle_range))) return fail("angle_range must be > 0");
   return Status::kOk;
 }
 
@@ -46,6 +48,15 @@ std::vector<int> free_parameters(const KinematicParameters& k, bool beta) {
   }
   for (int i = 0; i < 3; ++i) idx.push_back(6 + 5 * n + i);
   return idx;
+}
+
+// True for the pack() entries that are lengths (base position, a, d, tool), false for angles.
+bool is_length(const KinematicParameters& k, int index) {
+  const int n = k.nq();
+  if (index < 3) return true;
+  if (index < 6) return false;
+  const int block = (index - 6) / n;  // 0 alpha, 1 a, 2 beta, 3 theta, 4 d, 5.. tool
+  return block == 1 || block >= 4;
 }
 
 Eigen::VectorXd residual(const KinematicParameters& k, const Eigen::MatrixXd& q,
@@ -81,6 +92,11 @@ Status calibrate_kinematics(const KinematicParameters& nominal, const Eigen::Mat
   position_residuals(nominal, q, p, &res.rms_residual_nominal, &dummy);
   Eigen::MatrixXd J(3 * m, np);
   Eigen::VectorXd scale(np), sv;
+  // O1's column scale: the parameter's fixed range, with the point motion expressed in mm.
+  Eigen::VectorXd range(np);
+  for (int c = 0; c < np; ++c)
+    range[c] = (is_length(nominal, idx[c]) ? config.length_range : config.angle_range) / 1e-3;
+  Eigen::MatrixXd J_range(3 * m, np);
   for (int it = 0; it < config.max_iterations; ++it) {
     const Eigen::VectorXd r = residual(k, q, p);
     // dr/dx = -dp/dx; central differences.
@@ -93,6 +109,7 @@ Status calibrate_kinematics(const KinematicParameters& nominal, const Eigen::Mat
       km.unpack(xm);
       for (int j = 0; j < m; ++j)
         J.block<3, 1>(3 * j, c) = (kp.position(q.col(j)) - km.position(q.col(j))) / (2 * config.finite_difference);
+      J_range.col(c) = J.col(c) * range[c];
       scale[c] = J.col(c).norm();
       if (scale[c] > 0.0) J.col(c) /= scale[c];
     }
@@ -111,8 +128,11 @@ Status calibrate_kinematics(const KinematicParameters& nominal, const Eigen::Mat
     res.iterations = it + 1;
     res.rank = rank;
     res.condition_number = sv[0] / sv[rank - 1];
+    // Column scaling keeps the rank: the r largest range-scaled singular values are the
+    // observable directions.
+    const Eigen::VectorXd sv_range = Eigen::JacobiSVD<Eigen::MatrixXd>(J_range).singularValues();
     double log_sum = 0.0;
-    for (int i = 0; i < rank; ++i) log_sum += std::log(sv[i]);
+    for (int i = 0; i < rank; ++i) log_sum += std::log(sv_range[i]);
     res.observability_index = std::exp(log_sum / rank) / std::sqrt(static_cast<double>(m));
     if (step_scaled.norm() < config.step_tolerance) break;
   }

@@ -1,13 +1,17 @@
-// Kinematic calibration of a UR5 whose true geometry differs from the nominal DH table:
-// identification from 0.1 mm-noisy positions, checked on held-out configurations.
+// Kinematic calibration of a UR5 whose true geometry differs from the nominal DH table (a
+// perturbed KDL chain, not the identified form): identification from 0.1 mm-noisy positions,
+// checked on held-out configurations.
 #include <cmath>
+#include <fstream>
 #include <random>
+#include <sstream>
 
 #include <gtest/gtest.h>
+#include <kdl/chain.hpp>
+#include <kdl/frames.hpp>
 
 #include "kiloloop/calibration/kinematic_calibration.hpp"
 #include "kiloloop/kinematics/chain_kinematics.hpp"
-#include "kiloloop/kinematics/ur_analytic_ik.hpp"
 #include "test_models.hpp"
 
 namespace kiloloop {
@@ -16,40 +20,53 @@ namespace {
 constexpr double kPi = 3.14159265358979323846;
 
 KinematicParameters ur5_nominal() {
-  UrAnalyticIk ik;
-  std::string why;
-  EXPECT_EQ(UrAnalyticIk::from_model(*testing::load_ur5(), &ik, &why), Status::kOk) << why;
   KinematicParameters k;
+  std::string why;
   // A target 5 cm out from the flange, as a tracker reflector would be.
-  EXPECT_EQ(KinematicParameters::from_dh(ik.parameters().table(), DhConvention::kStandard,
-                                         Eigen::Vector3d(0, 0, 0.05), &k, &why),
-            Status::kOk);
+  EXPECT_EQ(KinematicParameters::from_ur_model(*testing::load_ur5(), Eigen::Vector3d(0, 0, 0.05), &k, &why),
+            Status::kOk) << why;
   return k;
 }
 
-// The perturbed "true" arm: lengths +-1 mm, angles +-0.2 deg, base +-2 mm / +-0.5 deg, on every
-// parameter the parameterization has (including beta tilts of the parallel axes).
-KinematicParameters perturbed(const KinematicParameters& nominal, std::mt19937& rng) {
-  KinematicParameters t = nominal;
-  std::uniform_real_distribution<double> u(-1, 1);
-  const double mm = 1e-3, deg = kPi / 180;
-  for (int i = 0; i < 3; ++i) t.base_position[i] += 2 * mm * u(rng), t.base_rotation[i] += 0.5 * deg * u(rng);
-  for (int i = 0; i < t.nq(); ++i) {
-    t.alpha[i] += 0.2 * deg * u(rng);
-    t.a[i] += mm * u(rng);
-    if (t.has_beta[i]) t.beta[i] += 0.2 * deg * u(rng);
-    t.theta[i] += 0.2 * deg * u(rng);
-    t.d[i] += mm * u(rng);
+// The "true" arm, not written in the identified parameterization: the UR5's KDL chain with a
+// seeded random rigid offset (+-1 mm per axis, +-0.2 deg per roll/pitch/yaw) before joint 1 and
+// after every segment, i.e. every joint origin and tool0 moved, and the point 5 cm out from tool0.
+struct PerturbedChain {
+  KDL::Chain chain;
+  KDL::Frame base;
+  std::vector<KDL::Frame> after;  // one per segment
+
+  PerturbedChain(const KDL::Chain& nominal, std::mt19937& rng) : chain(nominal) {
+    std::uniform_real_distribution<double> u(-1, 1);
+    const double mm = 1e-3, deg = kPi / 180;
+    auto offset = [&] {
+      const KDL::Vector p(mm * u(rng), mm * u(rng), mm * u(rng));
+      const double r = 0.2 * deg * u(rng), pi = 0.2 * deg * u(rng), y = 0.2 * deg * u(rng);
+      return KDL::Frame(KDL::Rotation::RPY(r, pi, y), p);
+    };
+    base = offset();
+    for (unsigned s = 0; s < chain.getNrOfSegments(); ++s) after.push_back(offset());
   }
-  for (int i = 0; i < 3; ++i) t.tool[i] += mm * u(rng);
-  return t;
-}
+
+  Eigen::Vector3d position(const Eigen::VectorXd& q) const {
+    KDL::Frame T = base;
+    int j = 0;
+    for (unsigned s = 0; s < chain.getNrOfSegments(); ++s) {
+      const KDL::Segment& seg = chain.getSegment(s);
+      const bool moving = seg.getJoint().getType() != KDL::Joint::None;
+      T = T * seg.pose(moving ? q[j++] : 0.0) * after[s];
+    }
+    const KDL::Vector p = T * KDL::Vector(0, 0, 0.05);
+    return Eigen::Vector3d(p.x(), p.y(), p.z());
+  }
+};
 
 struct Data {
   Eigen::MatrixXd q, p, p_true;
 };
 
-Data measure(const KinematicParameters& truth, int m, double noise, std::mt19937& rng) {
+template <class Arm>
+Data measure(const Arm& truth, int m, double noise, std::mt19937& rng) {
   std::uniform_real_distribution<double> u(-kPi, kPi);
   std::normal_distribution<double> n(0.0, noise);
   Data d{Eigen::MatrixXd(6, m), Eigen::MatrixXd(3, m), Eigen::MatrixXd(3, m)};
@@ -79,11 +96,57 @@ TEST(KinematicParameters, NominalUr5EqualsTheModelsForwardKinematics) {
   EXPECT_EQ(k.has_beta, (std::vector<bool>{false, false, true, true, false, false}));
 }
 
+// A UR5 mounted with an offset before joint 1 (xyz and rpy on shoulder_pan_joint's origin): the
+// parameters carry that base, so they reproduce the model's own FK.
+TEST(KinematicParameters, FromUrModelCarriesTheBaseTransform) {
+  std::ifstream file(testing::ur5_urdf_path());
+  std::stringstream text;
+  text << file.rdbuf();
+  std::string xml = text.str();
+  const std::string joint1 = "<child link=\"shoulder_link\"/>\n    <origin xyz=\"0 0 0\" rpy=\"0 0 0\"/>";
+  const auto at = xml.find(joint1);
+  ASSERT_NE(at, std::string::npos);
+  xml.replace(at, joint1.size(),
+              "<child link=\"shoulder_link\"/>\n    <origin xyz=\"0.3 -0.2 0.5\" rpy=\"0.4 -0.3 2.5\"/>");
+  RobotModel model;
+  std::string why;
+  ASSERT_EQ(model_from_urdf_string(xml, "", "", &model, &why), Status::kOk) << why;
+  const Eigen::Vector3d tool_point(0.01, -0.02, 0.05);
+  KinematicParameters k;
+  ASSERT_EQ(KinematicParameters::from_ur_model(model, tool_point, &k, &why), Status::kOk) << why;
+  ChainKinematics kin;
+  ASSERT_EQ(ChainKinematics::configure(model, &kin, &why), Status::kOk);
+  const unsigned seed = 61;
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> u(-kPi, kPi);
+  double worst = 0.0, worst_without_base = 0.0;
+  KinematicParameters no_base = k;
+  no_base.base_position.setZero();
+  no_base.base_rotation.setZero();
+  for (int j = 0; j < 50; ++j) {
+    Eigen::VectorXd q(6);
+    for (int i = 0; i < 6; ++i) q[i] = u(rng);
+    Eigen::Isometry3d T;
+    kin.forward(q, T);
+    worst = std::max(worst, (k.position(q) - T * tool_point).norm());
+    worst_without_base = std::max(worst_without_base, (no_base.position(q) - T * tool_point).norm());
+  }
+  std::printf("seed %u: worst FK deviation %.3g m (%.3g m with the base dropped)\n", seed, worst,
+              worst_without_base);
+  EXPECT_LT(worst, 1e-9);
+  EXPECT_GT(worst_without_base, 0.1);  // the offset is real: dropping it is visible
+  // A chain that is not UR-shaped is refused with a reason.
+  RobotModel planar;
+  ASSERT_EQ(model_from_dh(testing::PlanarArm{}.table(), DhConvention::kStandard, &planar, &why), Status::kOk);
+  EXPECT_EQ(KinematicParameters::from_ur_model(planar, tool_point, &k, &why), Status::kModelError);
+  EXPECT_FALSE(why.empty());
+}
+
 TEST(KinematicCalibration, RecoversThePerturbedUr5ToBelowHalfAMillimetre) {
   const unsigned seed = 47;
   std::mt19937 rng(seed);
   const KinematicParameters nominal = ur5_nominal();
-  const KinematicParameters truth = perturbed(nominal, rng);
+  const PerturbedChain truth(testing::load_ur5()->chain(), rng);
   const Data train = measure(truth, 60, 1e-4, rng);
   const Data test = measure(truth, 50, 1e-4, rng);
   CalibrationResult res;
@@ -121,6 +184,31 @@ TEST(KinematicCalibration, WithoutBetaTheParallelAxisTiltCannotBeFitted) {
   EXPECT_GT(without.rms_residual, 2 * with_beta.rms_residual);
 }
 
+// O1 is a per-pose figure: with twice the poses from the same distribution it stays put (with
+// unit-norm columns it fell as 1/sqrt(m), 0.71x here).
+TEST(KinematicCalibration, ObservabilityIndexDoesNotDropWhenThePoseCountDoubles) {
+  const unsigned seed = 59;
+  std::mt19937 rng(seed);
+  const KinematicParameters nominal = ur5_nominal();
+  const Data few = measure(nominal, 100, 1e-4, rng);
+  const Data many = measure(nominal, 200, 1e-4, rng);
+  CalibrationResult r_few, r_many;
+  std::string why;
+  ASSERT_EQ(calibrate_kinematics(nominal, few.q, few.p, CalibrationConfig{}, &r_few, &why), Status::kOk);
+  ASSERT_EQ(calibrate_kinematics(nominal, many.q, many.p, CalibrationConfig{}, &r_many, &why), Status::kOk);
+  std::printf("seed %u: O1 %.4f mm (100 poses), %.4f mm (200 poses)\n", seed, r_few.observability_index,
+              r_many.observability_index);
+  EXPECT_EQ(r_few.rank, r_many.rank);
+  EXPECT_GT(r_many.observability_index, 0.9 * r_few.observability_index);
+  EXPECT_LT(r_many.observability_index, 1.1 * r_few.observability_index);
+  // Coarser ranges scale every retained singular value, and so O1, by the same factor.
+  CalibrationConfig coarse;
+  coarse.length_range = coarse.angle_range = 2e-3;
+  CalibrationResult r_coarse;
+  ASSERT_EQ(calibrate_kinematics(nominal, few.q, few.p, coarse, &r_coarse, &why), Status::kOk);
+  EXPECT_NEAR(r_coarse.observability_index, 2 * r_few.observability_index, 1e-9);
+}
+
 TEST(KinematicCalibration, RejectsBadData) {
   const KinematicParameters nominal = ur5_nominal();
   CalibrationResult res;
@@ -132,6 +220,9 @@ TEST(KinematicCalibration, RejectsBadData) {
   p(1, 1) = NAN;
   EXPECT_EQ(calibrate_kinematics(nominal, Eigen::MatrixXd::Zero(6, 10), p, CalibrationConfig{}, &res, &why),
             Status::kNonFiniteMeasurement);
+  CalibrationConfig no_range;
+  no_range.angle_range = 0.0;
+  EXPECT_EQ(validate(no_range, &why), Status::kInvalidConfig);
 }
 
 }  // namespace

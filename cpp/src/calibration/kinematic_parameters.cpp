@@ -4,6 +4,8 @@
 
 #include <Eigen/Geometry>
 
+#include "kiloloop/kinematics/ur_analytic_ik.hpp"
+
 namespace kiloloop {
 
 Eigen::VectorXd KinematicParameters::pack() const {
@@ -73,6 +75,22 @@ Status KinematicParameters::from_dh(const std::vector<DhLink>& links, DhConventi
   k.tool = tool_frame * tool_point;
   // Parallel consecutive axes: alpha_i = 0 or pi (mod 2 pi) in the modified convention.
   for (int i = 1; i < n; ++i) k.has_beta[i] = std::abs(std::sin(k.alpha[i])) < 1e-9;
+  *out = k;
+  return Status::kOk;
+}
+
+Status KinematicParameters::from_ur_model(const RobotModel& model, const Eigen::Vector3d& tool_point,
+                                          KinematicParameters* out, std::string* why) {
+  UrAnalyticIk ik;
+  Status s = UrAnalyticIk::from_model(model, &ik, why);
+  if (failed(s)) return s;
+  KinematicParameters k;
+  s = from_dh(ik.parameters().table(), DhConvention::kStandard, tool_point, &k, why);
+  if (failed(s)) return s;
+  // The DH product starts at frame 0; a mounting offset before joint 1 is part of the geometry.
+  const Eigen::AngleAxisd base_rotation(ik.base().linear());
+  k.base_position = ik.base().translation();
+  k.base_rotation = base_rotation.angle() * base_rotation.axis();
   *out = k;
   return Status::kOk;
 }

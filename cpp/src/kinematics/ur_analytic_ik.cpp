@@ -75,6 +75,7 @@ Status UrAnalyticIk::configure(const UrDhParameters& p, const Eigen::Isometry3d&
   }
   UrAnalyticIk ik;
   ik.dh_ = p;
+  ik.base_ = base;
   ik.base_inv_ = base.inverse();
   ik.lower_ = lower;
   ik.upper_ = upper;

@@ -7,9 +7,13 @@
 // `rank_tolerance * sigma_max` are directions the data cannot observe (parameters that are
 // exactly redundant, such as a base rotation about joint 1's axis vs theta_1); they are left at
 // their nominal values. Observability figures of the final Jacobian are reported:
-//   condition number  sigma_max / sigma_min over the retained directions (1 is ideal)
-//   O1 index          (sigma_1 ... sigma_r)^(1/r) / sqrt(m)  (Borm & Menq 1991), of the same
-//                     column-scaled Jacobian (dimensionless; larger is better)
+//   condition number  sigma_max / sigma_min of the unit-norm-column Jacobian over the retained
+//                     directions (1 is ideal)
+//   O1 index          (sigma_1 ... sigma_r)^(1/r) / sqrt(m)  (Borm & Menq 1991) over the same r
+//                     directions, of the Jacobian with columns scaled by FIXED parameter ranges
+//                     (`length_range`, `angle_range`), in mm: the RMS point motion per pose for a
+//                     parameter change of one range. Unit-norm columns would not do: their
+//                     singular values do not grow with m, so O1 would fall as 1/sqrt(m).
 #include <string>
 
 #include <Eigen/Core>
@@ -26,6 +30,9 @@ struct CalibrationConfig {
                                  // directions (UR5: sigma_min / sigma_max ~ 0.2)
   double finite_difference = 1e-7;  // [m or rad] central-difference step
   bool identify_beta = true;     // false: plain modified DH (for comparison)
+  // Parameter ranges that scale the Jacobian's columns for O1 only (not for the solve).
+  double length_range = 1e-3;    // [m]
+  double angle_range = 1e-3;     // [rad]
 };
 
 Status validate(const CalibrationConfig& config, std::string* why);
@@ -35,8 +42,8 @@ struct CalibrationResult {
   int iterations = 0;
   int num_parameters = 0;          // free parameters considered
   int rank = 0;                    // observable directions among them
-  double condition_number = 0.0;   // of the column-scaled identification Jacobian (retained)
-  double observability_index = 0.0;  // O1 (scaled, dimensionless)
+  double condition_number = 0.0;   // of the unit-norm-column identification Jacobian (retained)
+  double observability_index = 0.0;  // O1 with range-scaled columns [mm per range, per pose]
   double rms_residual = 0.0;       // [m] per measured point, on the identification data
   double rms_residual_nominal = 0.0;  // [m] the same with the nominal parameters
 };

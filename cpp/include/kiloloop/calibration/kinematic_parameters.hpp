@@ -15,6 +15,7 @@
 #include <Eigen/Core>
 
 #include "kiloloop/model/dh.hpp"
+#include "kiloloop/model/robot_model.hpp"
 #include "kiloloop/status.hpp"
 
 namespace kiloloop {
@@ -40,6 +41,11 @@ struct KinematicParameters {
   static Status from_dh(const std::vector<DhLink>& links, DhConvention convention,
                         const Eigen::Vector3d& tool_point, KinematicParameters* out,
                         std::string* why);
+  // Nominal parameters of a UR-shaped model: the DH table read off its chain (UrAnalyticIk::
+  // from_model, which checks the hypothesis) and its fixed frames before joint 1 as the base, so
+  // position(q) = T_root_tool0(q) * tool_point. A non-UR chain: kModelError with the reason.
+  static Status from_ur_model(const RobotModel& model, const Eigen::Vector3d& tool_point,
+                              KinematicParameters* out, std::string* why);
 };
 
 }  // namespace kiloloop

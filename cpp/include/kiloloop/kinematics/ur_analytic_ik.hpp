@@ -49,6 +49,8 @@ class UrAnalyticIk {
                            double tolerance = 1e-9);
 
   const UrDhParameters& parameters() const { return dh_; }
+  // T_root_frame0: the fixed frames before joint 1 (configure's `base`).
+  const Eigen::Isometry3d& base() const { return base_; }
   // Largest FK deviation of the model's chain from this closed form seen by from_model [m, rad].
   double deviation() const { return deviation_; }
   // T_root_tool0 at q (6), the closed-form standard-DH product.
@@ -63,6 +65,7 @@ class UrAnalyticIk {
 
  private:
   UrDhParameters dh_;
+  Eigen::Isometry3d base_ = Eigen::Isometry3d::Identity();
   Eigen::Isometry3d base_inv_ = Eigen::Isometry3d::Identity();
   Eigen::Matrix<double, 6, 1> lower_, upper_;
   double deviation_ = 0.0;
