@@ -168,7 +168,7 @@ Status ArmSupervisor::step(const SupervisorInput& in, SupervisorOutput& out) noe
   else if (std::fabs(in.t - in.stamp) > config_.max_measurement_age) bad = Status::kStaleMeasurement;
   if (bad != Status::kOk) {
     ++counters_.bad_measurement;
-    ++bad_ticks_;
+    if (bad_ticks_ < config_.max_bad_ticks) ++bad_ticks_;  // saturates: no overflow in a long outage
     // A long outage is a fault of its own: stop now, from the last valid state carried forward at
     // its velocity (gravity compensation alone lets the arm coast) to this tick.
     if (bad_ticks_ >= config_.max_bad_ticks && has_valid_q_ && mode_ == SupervisorMode::kNormal) {
