@@ -36,6 +36,7 @@ void bind_safety(py::module_& m) {
       .def_readwrite("thermal_time_constant", &ArmSupervisorConfig::thermal_time_constant)
       .def_readwrite("acceleration_filter", &ArmSupervisorConfig::acceleration_filter)
       .def_readwrite("max_measurement_age", &ArmSupervisorConfig::max_measurement_age)
+      .def_readwrite("max_bad_ticks", &ArmSupervisorConfig::max_bad_ticks)
       .def_readwrite("stop_kp", &ArmSupervisorConfig::stop_kp)
       .def_readwrite("stop_kd", &ArmSupervisorConfig::stop_kd)
       .def_readwrite("singularity", &ArmSupervisorConfig::singularity);
@@ -69,6 +70,7 @@ void bind_safety(py::module_& m) {
       .def_readonly("saturated", &SupervisorCounters::saturated)
       .def_readonly("singularity_warnings", &SupervisorCounters::singularity_warnings)
       .def_readonly("bad_measurement", &SupervisorCounters::bad_measurement)
+      .def_readonly("measurement_trips", &SupervisorCounters::measurement_trips)
       .def_readonly("resets", &SupervisorCounters::resets);
   py::class_<ArmSupervisor>(m, "ArmSupervisor",
                             "Limits, I^2 t overload, singularity warning, e-stop -> controlled stop and hold")

@@ -24,6 +24,9 @@ def test_planned_motion_passes_its_criteria(planned):
         assert c["passed"], f"{name} = {c['value']} (needs {c['op']} {c['threshold']})"
     assert r.metrics["failed_ticks"] == 0
     assert r.metrics["path_length_rad"] <= r.metrics["raw_path_length_rad"]
+    # The planner proves whole edges free, so the executed reference keeps the margin (not only
+    # at the collision-check samples).
+    assert r.metrics["min_planned_clearance_m"] > arm_rrt.DEFAULTS["margin"]
 
 
 def test_the_box_blocks_the_straight_path():

@@ -11,7 +11,19 @@
 namespace kiloloop {
 namespace {
 
-void add_link(const urdf::Link& link, std::vector<LinkCapsule>* out) {
+const char* geometry_name(int type) {
+  switch (type) {
+    case urdf::Geometry::SPHERE: return "sphere";
+    case urdf::Geometry::BOX: return "box";
+    case urdf::Geometry::CYLINDER: return "cylinder";
+    case urdf::Geometry::MESH: return "mesh";
+    default: return "unknown";
+  }
+}
+
+// A link with no <collision> adds nothing (the caller decided it cannot hit anything). A collision
+// primitive that cannot be bounded (a mesh) fails: skipping it would let the planner pass through it.
+Status add_link(const urdf::Link& link, std::vector<LinkCapsule>* out, std::string* why) {
   for (const urdf::CollisionSharedPtr& col : link.collision_array) {
     if (!col || !col->geometry) continue;
     const urdf::Pose& o = col->origin;
@@ -40,12 +52,16 @@ void add_link(const urdf::Link& link, std::vector<LinkCapsule>* out) {
         break;
       }
       default:
-        continue;  // meshes: no primitive to bound
+        if (why)
+          *why = "link '" + link.name + "': collision geometry '" + geometry_name(col->geometry->type) +
+                 "' is not supported (use a cylinder, sphere or box)";
+        return Status::kModelError;
     }
     cap.a = p - R * half_axis;
     cap.b = p + R * half_axis;
     out->push_back(cap);
   }
+  return Status::kOk;
 }
 
 }  // namespace
@@ -67,7 +83,12 @@ Status capsules_from_urdf_string(const std::string& xml, const RobotModel& model
   out->clear();
   for (const std::string& name : links) {
     const urdf::LinkConstSharedPtr link = urdf_model->getLink(name);
-    if (link) add_link(*link, out);
+    if (!link) continue;
+    const Status s = add_link(*link, out, why);
+    if (failed(s)) {
+      out->clear();
+      return s;
+    }
   }
   return Status::kOk;
 }

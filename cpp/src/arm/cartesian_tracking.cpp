@@ -4,6 +4,8 @@
 
 #include <Eigen/LU>
 
+#include "kiloloop/kinematics/rigid_check.hpp"
+
 namespace kiloloop {
 
 Status validate(const CartesianTrackingConfig& c, int nq, std::string* why) {
@@ -91,7 +93,8 @@ Status CartesianTrackingController::step(const CartesianTrackingInput& in,
     qd_prev_.setZero();
     started_ = true;
   }
-  const bool reference_ok = in.pose_ref.allFinite() && in.twist_ref.allFinite();
+  // A non-rigid pose_ref (bottom row, non-orthonormal R) is as unusable as a NaN one.
+  const bool reference_ok = is_rigid_transform(in.pose_ref) && in.twist_ref.allFinite();
   Eigen::Isometry3d T;
   kin_.forward_jacobian(q_r_, T, J_);
   JJt_.noalias() = J_ * J_.transpose();

@@ -206,5 +206,48 @@ TEST(CartesianTracking, DeterministicAndSafeOnBadInput) {
   EXPECT_EQ(CartesianTrackingController::configure(cfg, model, &c1, &why), Status::kInvalidConfig);
 }
 
+TEST(CartesianTracking, NonRigidPoseReferenceHoldsTheJointReference) {
+  const RobotModelPtr model = testing::load_ur5();
+  const CartesianLine line = make_line(*model, 0.0, 1.0);
+  CartesianTrackingController c;
+  std::string why;
+  ASSERT_EQ(CartesianTrackingController::configure(CartesianTrackingConfig{}, model, &c, &why), Status::kOk);
+  CartesianTrackingInput in = c.make_input();
+  CartesianTrackingOutput out = c.make_output();
+  in.q = q_start();
+  Eigen::Isometry3d T;
+  Vector6d a;
+  for (int k = 0; k < 200; ++k) {  // moving along the line, so qd_ref is not zero
+    in.t = in.stamp = k * 1e-3;
+    line.sample(in.t, T, in.twist_ref, a);
+    in.pose_ref = T.matrix();
+    ASSERT_FALSE(failed(c.step(in, out))) << "tick " << k;
+  }
+  ASSERT_GT(out.qd_ref.norm(), 1e-3);
+  const Eigen::Matrix4d good = in.pose_ref;
+  Eigen::Matrix4d bottom = good, scaled = good, mirrored = good;
+  bottom(3, 0) = 0.2;                         // finite, but not a homogeneous transform
+  scaled.topLeftCorner<3, 3>() *= 1.05;        // not orthonormal
+  mirrored.col(2).head<3>() *= -1.0;           // orthonormal, det -1
+  for (const Eigen::Matrix4d* bad : {&bottom, &scaled, &mirrored}) {
+    in.pose_ref = *bad;
+    Eigen::VectorXd q_ref_first;
+    for (int tick = 0; tick < 2; ++tick) {
+      in.t = in.stamp = in.t + 1e-3;
+      EXPECT_EQ(c.step(in, out), Status::kNonFiniteReference);
+      EXPECT_TRUE(out.tau.allFinite());
+      EXPECT_EQ(out.qd_ref.norm(), 0.0);
+      EXPECT_EQ(out.qdd_ref.norm(), 0.0);
+      EXPECT_EQ(out.task_error.norm(), 0.0);
+      if (tick == 0) q_ref_first = out.q_ref;
+    }
+    EXPECT_EQ(out.q_ref, q_ref_first);  // q_r holds still
+  }
+  // A valid reference again: tracking resumes.
+  in.t = in.stamp = in.t + 1e-3;
+  in.pose_ref = good;
+  EXPECT_FALSE(failed(c.step(in, out)));
+}
+
 }  // namespace
 }  // namespace kiloloop

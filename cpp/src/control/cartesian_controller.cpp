@@ -4,6 +4,8 @@
 
 #include <Eigen/Geometry>
 
+#include "kiloloop/kinematics/rigid_check.hpp"
+
 namespace kiloloop {
 
 CartesianControlInput make_cartesian_input(int nq) {
@@ -116,11 +118,7 @@ Status CartesianTorqueController::step(const CartesianControlInput& in,
   } else {
     last_valid_q_ = in.q;
     has_valid_q_ = true;
-    const bool rotation_ok =
-        in.R_ref.allFinite() &&
-        (in.R_ref.transpose() * in.R_ref - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff() < 1e-6 &&
-        in.R_ref.determinant() > 0.0;
-    if (!in.p_ref.allFinite() || !rotation_ok || !in.twist_ref.allFinite() ||
+    if (!in.p_ref.allFinite() || !is_rotation(in.R_ref) || !in.twist_ref.allFinite() ||
         !in.accel_ref.allFinite() || !in.wrench_ref.allFinite()) {
       // Damped stop at the measured state: g(q) - Kd qd.
       if (failed(dyn_.gravity(in.q, out.tau))) out.tau.setZero();

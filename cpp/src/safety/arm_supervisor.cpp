@@ -39,6 +39,7 @@ Status validate(const ArmSupervisorConfig& c, int nq, std::string* why) {
   if (!(c.acceleration_filter >= 0.0) || !std::isfinite(c.acceleration_filter))
     return fail("acceleration_filter must be finite and >= 0");
   if (!(c.max_measurement_age > 0.0)) return fail("max_measurement_age must be > 0");
+  if (c.max_bad_ticks < 1) return fail("max_bad_ticks must be >= 1");
   if (!(c.stop_kp >= 0.0) || !(c.stop_kd >= 0.0) || !std::isfinite(c.stop_kp) || !std::isfinite(c.stop_kd))
     return fail("stop_kp and stop_kd must be finite and >= 0");
   return validate(c.singularity, why);
@@ -69,7 +70,7 @@ Status ArmSupervisor::configure(const ArmSupervisorConfig& config, RobotModelPtr
   }
   a.config_ = config;
   a.singularity_.configure(config.singularity);
-  a.thermal_ = a.qd_prev_ = a.qdd_filt_ = a.last_valid_q_ = Eigen::VectorXd::Zero(n);
+  a.thermal_ = a.qd_prev_ = a.qdd_filt_ = a.last_valid_q_ = a.last_valid_qd_ = Eigen::VectorXd::Zero(n);
   a.q_stop_ = a.qd_stop_ = a.q_ref_ = a.qd_ref_ = a.qdd_ref_ = a.v_ = Eigen::VectorXd::Zero(n);
   a.J_ = Eigen::MatrixXd::Zero(6, n);
   a.configured_ = true;
@@ -89,13 +90,13 @@ SupervisorOutput ArmSupervisor::make_output() const {
   return out;
 }
 
-void ArmSupervisor::trip(Status why, const SupervisorInput& in) noexcept {
+void ArmSupervisor::trip(Status why, double t, const Eigen::VectorXd& q, const Eigen::VectorXd& qd) noexcept {
   if (mode_ != SupervisorMode::kNormal) return;  // the first reason latches
   mode_ = SupervisorMode::kStopping;
   trip_ = why;
-  t_stop_ = in.t;
-  q_stop_ = in.q;
-  qd_stop_ = in.qd;
+  t_stop_ = t;
+  q_stop_ = q;
+  qd_stop_ = qd;
   stop_time_ = 0.0;
   for (int j = 0; j < nq(); ++j) stop_time_ = std::fmax(stop_time_, std::fabs(qd_stop_[j]) / astop_[j]);
   switch (why) {
@@ -103,13 +104,14 @@ void ArmSupervisor::trip(Status why, const SupervisorInput& in) noexcept {
     case Status::kTorqueOverload: ++counters_.overload_trips; break;
     case Status::kNonFiniteReference:
     case Status::kBadSize: ++counters_.bad_command_trips; break;
+    case Status::kStaleMeasurement: ++counters_.measurement_trips; break;
     default: break;  // limit trips are counted where they are detected
   }
 }
 
-Status ArmSupervisor::stop_torque(const SupervisorInput& in, Eigen::Ref<Eigen::VectorXd> tau) noexcept {
+void ArmSupervisor::stop_reference(double t) noexcept {
   // Each joint decelerates at a_stop from its velocity at the trip, then holds.
-  const double elapsed = std::fmax(in.t - t_stop_, 0.0);
+  const double elapsed = std::fmax(t - t_stop_, 0.0);
   for (int j = 0; j < nq(); ++j) {
     const double v0 = qd_stop_[j], a = astop_[j], sgn = v0 < 0.0 ? -1.0 : 1.0;
     const double T = std::fabs(v0) / a, s = std::fmin(elapsed, T);
@@ -118,9 +120,23 @@ Status ArmSupervisor::stop_torque(const SupervisorInput& in, Eigen::Ref<Eigen::V
     qdd_ref_[j] = elapsed < T ? -sgn * a : 0.0;
   }
   if (elapsed >= stop_time_) mode_ = SupervisorMode::kHolding;
+}
+
+Status ArmSupervisor::stop_torque(const SupervisorInput& in, Eigen::Ref<Eigen::VectorXd> tau) noexcept {
+  stop_reference(in.t);
   v_ = qdd_ref_ + config_.stop_kd * (qd_ref_ - in.qd) + config_.stop_kp * (q_ref_ - in.q);
   if (failed(dyn_.inverse_dynamics(in.q, in.qd, v_, tau))) {
     if (failed(dyn_.gravity(in.q, tau))) tau.setZero();
+  }
+  return trip_;
+}
+
+Status ArmSupervisor::blind_torque(const SupervisorInput& in, Eigen::Ref<Eigen::VectorXd> tau) noexcept {
+  // No trustworthy state: the feed-forward of the planned stop at the planned state. The time of a
+  // non-finite tick is the last valid one (the reference pauses, still braking or holding).
+  stop_reference(std::isfinite(in.t) ? in.t : t_prev_);
+  if (failed(dyn_.inverse_dynamics(q_ref_, qd_ref_, qdd_ref_, tau))) {
+    if (failed(dyn_.gravity(q_ref_, tau))) tau.setZero();
   }
   return trip_;
 }
@@ -152,14 +168,29 @@ Status ArmSupervisor::step(const SupervisorInput& in, SupervisorOutput& out) noe
   else if (std::fabs(in.t - in.stamp) > config_.max_measurement_age) bad = Status::kStaleMeasurement;
   if (bad != Status::kOk) {
     ++counters_.bad_measurement;
-    if (!has_valid_q_ || failed(dyn_.gravity(last_valid_q_, out.tau))) out.tau.setZero();
+    if (bad_ticks_ < config_.max_bad_ticks) ++bad_ticks_;  // saturates: no overflow in a long outage
+    // A long outage is a fault of its own: stop now, from the last valid state carried forward at
+    // its velocity (gravity compensation alone lets the arm coast) to this tick.
+    if (bad_ticks_ >= config_.max_bad_ticks && has_valid_q_ && mode_ == SupervisorMode::kNormal) {
+      const double t = std::isfinite(in.t) && in.t > t_prev_ ? in.t : t_prev_;
+      q_ref_ = last_valid_q_ + (t - t_prev_) * last_valid_qd_;
+      trip(Status::kStaleMeasurement, t, q_ref_, last_valid_qd_);
+    }
+    if (mode_ != SupervisorMode::kNormal) {
+      blind_torque(in, out.tau);
+    } else if (!has_valid_q_ || failed(dyn_.gravity(last_valid_q_, out.tau))) {
+      out.tau.setZero();
+    }
     clip(bad, out.tau);
     out.mode = mode_;
     out.trip = trip_;
     out.thermal = thermal_;
+    out.stop_time = stop_time_;
     return out.status = bad;
   }
+  bad_ticks_ = 0;
   last_valid_q_ = in.q;
+  last_valid_qd_ = in.qd;
   has_valid_q_ = true;
 
   // Time step and filtered acceleration from the measured velocity.
@@ -186,28 +217,28 @@ Status ArmSupervisor::step(const SupervisorInput& in, SupervisorOutput& out) noe
     ++counters_.resets;
   }
   if (mode_ == SupervisorMode::kNormal) {
-    if (in.estop) trip(Status::kEmergencyStop, in);
-    else if (in.tau_command.size() != n) trip(Status::kBadSize, in);
-    else if (!in.tau_command.allFinite()) trip(Status::kNonFiniteReference, in);
+    if (in.estop) trip(Status::kEmergencyStop, in.t, in.q, in.qd);
+    else if (in.tau_command.size() != n) trip(Status::kBadSize, in.t, in.q, in.qd);
+    else if (!in.tau_command.allFinite()) trip(Status::kNonFiniteReference, in.t, in.q, in.qd);
     else if (((in.tau_command.cwiseAbs() - config_.peak_trip_ratio * effort_).array() > 0.0).any())
-      trip(Status::kTorqueOverload, in);
+      trip(Status::kTorqueOverload, in.t, in.q, in.qd);
   }
   if (mode_ == SupervisorMode::kNormal) {
     for (int j = 0; j < n; ++j) {
       const double brake = in.qd[j] * std::fabs(in.qd[j]) / (2.0 * astop_[j]);  // signed distance
       if (in.q[j] + brake > upper_[j] || in.q[j] + brake < lower_[j]) {
         ++counters_.position_trips;
-        trip(Status::kLimitViolation, in);
+        trip(Status::kLimitViolation, in.t, in.q, in.qd);
         break;
       }
       if (std::fabs(in.qd[j]) > vmax_[j]) {
         ++counters_.velocity_trips;
-        trip(Status::kLimitViolation, in);
+        trip(Status::kLimitViolation, in.t, in.q, in.qd);
         break;
       }
       if (std::fabs(qdd_filt_[j]) > amax_[j]) {
         ++counters_.acceleration_trips;
-        trip(Status::kLimitViolation, in);
+        trip(Status::kLimitViolation, in.t, in.q, in.qd);
         break;
       }
     }
@@ -228,7 +259,7 @@ Status ArmSupervisor::step(const SupervisorInput& in, SupervisorOutput& out) noe
     }
   }
   if (mode_ == SupervisorMode::kNormal && (thermal_.array() >= 1.0).any()) {
-    trip(Status::kTorqueOverload, in);
+    trip(Status::kTorqueOverload, in.t, in.q, in.qd);
     s = worst(s, stop_torque(in, out.tau));
     s = clip(s, out.tau);
   }

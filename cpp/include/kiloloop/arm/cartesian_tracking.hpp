@@ -14,7 +14,8 @@
 // (q_r, qd_r, qdd_r) go to the ComputedTorqueController with the measured (q, qd).
 //
 // The first valid tick (and the first after reset()) starts q_r at the measured q. Bad
-// Cartesian reference: q_r holds still (qd_r = qdd_r = 0), status kNonFiniteReference. Bad
+// Cartesian reference (NaN/Inf, or pose_ref not rigid: bottom row not 0 0 0 1, rotation not
+// orthonormal with det +1): q_r holds still (qd_r = qdd_r = 0), status kNonFiniteReference. Bad
 // measurement: the computed torque controller's hold fallback. step() is noexcept and
 // allocation-free.
 #include <string>

@@ -17,7 +17,8 @@ namespace kiloloop {
 struct RrtConfig {
   int max_iterations = 20000;       // RRT-Connect iterations (one sample each) before giving up
   double extend_step = 0.2;         // [rad] max joint-space step (inf-norm) of one tree extension
-  double collision_step = 0.02;     // [rad] edges are checked at this resolution (inf-norm)
+  double collision_step = 0.02;     // [rad] edges' grid step (inf-norm); the gaps between grid
+                                    // samples are then proved free (ArmCollisionChecker::segment_free)
   int shortcut_iterations = 300;    // random shortcut attempts after a path is found
   std::uint64_t seed = 1;           // the only source of randomness
   Eigen::VectorXd lower, upper;     // (nq) [rad] sampling box; empty: the model's joint limits
@@ -60,7 +61,7 @@ Status plan_rrt_connect(ArmCollisionChecker& checker, const RrtConfig& config,
 
 // Random shortcutting: pick two points on the path (anywhere along its segments), replace what
 // lies between by a straight segment when that is collision-free; then drop waypoints whose
-// neighbours see each other. The path stays collision-free at collision_step resolution.
+// neighbours see each other. Every segment of the path stays collision-free (segment_free).
 void shortcut_path(ArmCollisionChecker& checker, int iterations, double collision_step,
                    std::uint64_t seed, Eigen::MatrixXd* path);
 

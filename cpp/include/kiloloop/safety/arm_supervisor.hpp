@@ -17,6 +17,13 @@
 // joint's velocity ramps to zero at its stop deceleration (stop time max_j |qd_j| / a_stop_j,
 // distance qd_j^2 / (2 a_stop_j)), tracked by computed torque, then HOLDS the final position.
 // Back to NORMAL only through `reset` while the e-stop is released and the arm holds.
+// Bad measurement (size, NaN/Inf, stale): nothing can be checked. In NORMAL the output is gravity
+// at the last valid q; max_bad_ticks consecutive bad ticks latch a stop (trip kStaleMeasurement)
+// from the last valid (q, qd). While STOPPING or HOLDING without a measurement the stop goes on
+// open loop: the inverse dynamics of the planned stop reference (its braking deceleration, then
+// gravity at the final position), so an outage never lets a stop coast. Open loop cannot hold for
+// long (gravity on a pose off the planned one acts as a negative stiffness): an outage that
+// outlasts the stop needs the motor brakes, which are outside this class.
 // step() is noexcept, allocation-free, never throws; statuses and counters say what happened.
 #include <string>
 
@@ -40,6 +47,7 @@ struct ArmSupervisorConfig {
   double thermal_time_constant = 2.0;        // [s] T_thermal of the I^2 t model
   double acceleration_filter = 0.005;        // [s] time constant of the qdd low-pass
   double max_measurement_age = 0.005;        // [s]
+  int max_bad_ticks = 20;                    // consecutive bad measurements that latch a stop
   double stop_kp = 400.0;                    // [1/s^2] computed-torque gains of the stop/hold
   double stop_kd = 40.0;                     // [1/s]
   SingularityMonitorConfig singularity;
@@ -80,6 +88,7 @@ struct SupervisorCounters {
   unsigned long long saturated = 0;           // ticks with clipped torque
   unsigned long long singularity_warnings = 0;  // ticks with a warning
   unsigned long long bad_measurement = 0;     // size, NaN/Inf or stale
+  unsigned long long measurement_trips = 0;   // stops latched by max_bad_ticks bad measurements
   unsigned long long resets = 0;
 };
 
@@ -97,8 +106,10 @@ class ArmSupervisor {
   SupervisorMode mode() const { return mode_; }
 
  private:
-  void trip(Status why, const SupervisorInput& in) noexcept;
+  void trip(Status why, double t, const Eigen::VectorXd& q, const Eigen::VectorXd& qd) noexcept;
+  void stop_reference(double t) noexcept;
   Status stop_torque(const SupervisorInput& in, Eigen::Ref<Eigen::VectorXd> tau) noexcept;
+  Status blind_torque(const SupervisorInput& in, Eigen::Ref<Eigen::VectorXd> tau) noexcept;
   Status clip(Status s, Eigen::Ref<Eigen::VectorXd> tau) noexcept;
 
   Dynamics dyn_;
@@ -108,8 +119,9 @@ class ArmSupervisor {
   // State.
   SupervisorMode mode_ = SupervisorMode::kNormal;
   Status trip_ = Status::kOk;
-  Eigen::VectorXd thermal_, qd_prev_, qdd_filt_, last_valid_q_;
+  Eigen::VectorXd thermal_, qd_prev_, qdd_filt_, last_valid_q_, last_valid_qd_;
   bool has_prev_ = false, has_valid_q_ = false;
+  int bad_ticks_ = 0;  // consecutive bad measurements
   double t_prev_ = 0.0;
   // Controlled stop: started at t_stop_ from q_stop_, qd_stop_.
   double t_stop_ = 0.0, stop_time_ = 0.0;

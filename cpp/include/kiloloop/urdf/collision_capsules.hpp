@@ -4,7 +4,9 @@
 //   cylinder (r, l)  -> axis along its z, ends at +-l/2, radius r (the caps add r at each end);
 //   sphere (r)       -> a point capsule of radius r;
 //   box (x, y, z)    -> axis along the longest side, radius = half the diagonal of the other two.
-// Meshes are skipped. Capsules come in chain order (root link first).
+// Links without <collision> contribute nothing. Any other geometry (a mesh) fails with kModelError
+// and a message naming the link and the geometry: a skipped link would be invisible to the planner.
+// Capsules come in chain order (root link first).
 #include <string>
 #include <vector>
 
