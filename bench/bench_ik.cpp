@@ -74,6 +74,67 @@ KDL::Frame to_kdl(const Eigen::Isometry3d& T) {
   return f;
 }
 
+// Radical inverse of `index` in `base` (the Halton sequence), as NumericIk's restarts use.
+double halton(int index, int base) {
+  double f = 1.0, r = 0.0;
+  while (index > 0) {
+    f /= base;
+    r += f * (index % base);
+    index /= base;
+  }
+  return r;
+}
+
+// A KDL solver given the same restart scheme as ours, so the comparison is like for like: attempts
+// of `per_attempt` iterations, the first from the seed, then from Halton points over the joint
+// range (capped at +-pi, the same primes), until `budget` iterations are spent. An attempt counts
+// when its pose error meets the tolerances and, after shifting joints by whole turns, it is
+// within the limits (KDL's LMA does not know the limits).
+class KdlWithRestarts {
+ public:
+  using Attempt = std::function<void(const KDL::JntArray&, const KDL::Frame&, KDL::JntArray&)>;
+  KdlWithRestarts(const RobotModel& m, ChainKinematics& kin, Attempt attempt, int per_attempt,
+                  int budget)
+      : model_(m), kin_(kin), attempt_(std::move(attempt)), attempts_(budget / per_attempt),
+        in_(m.nq()), out_(m.nq()) {}
+
+  void solve(const Eigen::Isometry3d& T, const Eigen::VectorXd& seed, Eigen::VectorXd& q) {
+    static constexpr int kPrimes[] = {2, 3, 5, 7, 11, 13, 17, 19};
+    const KDL::Frame target = to_kdl(T);
+    const int nq = model_.nq();
+    for (int a = 0; a < attempts_; ++a) {
+      if (a == 0) {
+        in_.data = seed;
+      } else {
+        for (int i = 0; i < nq; ++i) {
+          const double lo = std::max(model_.lower()[i], -kPi), hi = std::min(model_.upper()[i], kPi);
+          in_.data[i] = lo + halton(a, kPrimes[i % 8]) * (hi - lo);
+        }
+      }
+      attempt_(in_, target, out_);
+      q = out_.data;
+      if (!q.allFinite()) continue;
+      for (int i = 0; i < nq; ++i) {
+        while (q[i] > model_.upper()[i] && q[i] - 2 * kPi >= model_.lower()[i]) q[i] -= 2 * kPi;
+        while (q[i] < model_.lower()[i] && q[i] + 2 * kPi <= model_.upper()[i]) q[i] += 2 * kPi;
+      }
+      Eigen::Isometry3d F;
+      kin_.forward(q, F);
+      const Eigen::Matrix<double, 6, 1> e = pose_error(T, F);
+      const bool within = (q.array() >= model_.lower().array()).all() &&
+                          (q.array() <= model_.upper().array()).all();
+      if (within && e.head<3>().norm() <= kPosTol && e.tail<3>().norm() <= kRotTol) return;
+    }
+  }
+
+ private:
+  const RobotModel& model_;
+  ChainKinematics& kin_;  // FK scratch (its own copy)
+  Attempt attempt_;
+  int attempts_;
+  KDL::JntArray in_, out_;
+};
+
 struct RobotReport {
   std::string robot;
   int nq = 0;
@@ -146,6 +207,32 @@ RobotReport bench_robot(const std::string& name, const std::string& urdf, long n
         kq_in->data = s;
         nrjl->CartToJnt(*kq_in, to_kdl(T), *kq_out);
         q = kq_out->data;
+      }, n));
+
+  // The same two KDL solvers with our restart scheme (15 iterations an attempt, 500 in all).
+  const ArmIkConfig ours_config;
+  const int per_attempt = ours_config.numeric.restart_after, budget = ours_config.numeric.max_iterations;
+  auto lma_short = std::make_shared<KDL::ChainIkSolverPos_LMA>(chain, L, kPosTol, per_attempt, 1e-15);
+  auto nrjl_short = std::make_shared<KDL::ChainIkSolverPos_NR_JL>(chain, qmin, qmax, *fk, *vel, per_attempt,
+                                                                   kPosTol / std::sqrt(3.0));
+  auto kin_shared = std::make_shared<ChainKinematics>(kin);
+  auto lma_restarts = std::make_shared<KdlWithRestarts>(
+      *model, *kin_shared,
+      [lma_short](const KDL::JntArray& a, const KDL::Frame& f, KDL::JntArray& b) { lma_short->CartToJnt(a, f, b); },
+      per_attempt, budget);
+  auto nrjl_restarts = std::make_shared<KdlWithRestarts>(
+      *model, *kin_shared,
+      [nrjl_short](const KDL::JntArray& a, const KDL::Frame& f, KDL::JntArray& b) { nrjl_short->CartToJnt(a, f, b); },
+      per_attempt, budget);
+  rep.solvers.push_back(std::make_unique<SolverRun>(
+      "KDL LMA + our restarts",
+      [lma_restarts, kin_shared](const Eigen::Isometry3d& T, const Eigen::VectorXd& s, Eigen::VectorXd& q) {
+        lma_restarts->solve(T, s, q);
+      }, n));
+  rep.solvers.push_back(std::make_unique<SolverRun>(
+      "KDL NR_JL + our restarts",
+      [nrjl_restarts, kin_shared](const Eigen::Isometry3d& T, const Eigen::VectorXd& s, Eigen::VectorXd& q) {
+        nrjl_restarts->solve(T, s, q);
       }, n));
 
   const int m = static_cast<int>(rep.solvers.size());
