@@ -102,31 +102,37 @@ def sil_benchmark(quick: bool) -> dict:
     }
 
 
-def quadruped_sil_benchmark(quick: bool) -> dict:
-    """Real-time factor of quadruped-trot (non-idealities on) and its tick cost vs raw mj_step."""
-    from ..scenarios import parse_settings, quadruped_trot
-    from ..sil.quadruped_rig import rig_from_settings
-
+def rig_sil_timing(scenario: str, rig, command, quick: bool) -> dict:
+    """Runs a SIL rig (it owns plant, controller, input, output) for a few simulated seconds: real-time
+    factor, tick cost against one raw mj_step of the same model, and the controller's step called
+    from Python on the rig's own input/output structs."""
     duration = 2.0 if quick else 10.0
-    settings = parse_settings(quadruped_trot.DEFAULTS, None)
-    rig = rig_from_settings(settings, seed=0)
     start = time.perf_counter()
-    log = rig.run(duration, quadruped_trot.trot_command(settings["speed"]))
+    log = rig.run(duration, command)
     wall = time.perf_counter() - start
     ticks = len(log["t"])
     raw = _raw_mj_step_seconds(rig.plant, ticks)
-    inp, out = kl.QuadrupedInput(), kl.QuadrupedOutput()
-    controller = kl.QuadrupedController(rig.model)
+    controller, inp, out = rig.controller, rig.input, rig.output
     calls = 2000 if quick else 20000
     start = time.perf_counter()
     for k in range(calls):
         inp.t = inp.stamp = k * 0.001
         controller.step(inp, out)
     step_py = (time.perf_counter() - start) / calls
-    return {"scenario": "quadruped-trot", "sim_seconds": duration, "ticks": ticks,
+    return {"scenario": scenario, "sim_seconds": duration, "ticks": ticks,
             "physics_dt": rig.plant.timestep, "real_time_factor": duration / wall,
             "tick_cost_us": wall / ticks * 1e6, "raw_mj_step_us": raw * 1e6,
             "tick_over_mj_step": (wall / ticks) / raw, "python_controller_step_us": step_py * 1e6}
+
+
+def quadruped_sil_benchmark(quick: bool) -> dict:
+    """Real-time factor of quadruped-trot (non-idealities on) and its tick cost vs raw mj_step."""
+    from ..scenarios import parse_settings, quadruped_trot
+    from ..sil.quadruped_rig import rig_from_settings
+
+    settings = parse_settings(quadruped_trot.DEFAULTS, None)
+    rig = rig_from_settings(settings, seed=0)
+    return rig_sil_timing("quadruped-trot", rig, quadruped_trot.trot_command(settings["speed"]), quick)
 
 
 def _print_core(core: dict) -> None:
@@ -164,7 +170,7 @@ def arm_track_duration() -> float:
     return arm_track.DURATION
 
 
-def _print_quadruped_sil(q: dict) -> None:
+def print_rig_sil(q: dict) -> None:
     print(f"SIL {q['scenario']} ({q['sim_seconds']} s simulated, non-idealities on, physics dt "
           f"{q['physics_dt'] * 1e3:g} ms)")
     print(f"  real-time factor                   {q['real_time_factor']:8.1f} x")
@@ -202,7 +208,7 @@ def run_benchmarks(quick: bool = False, as_json: bool = False) -> int:
         print()
         _print_sil(sil)
         print()
-        _print_quadruped_sil(quadruped)
+        print_rig_sil(quadruped)
         print()
         print_qp_bench(qp)
         if limits is not None:
