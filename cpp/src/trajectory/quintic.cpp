@@ -2,6 +2,8 @@
 
 #include <cmath>
 
+#include "kiloloop/trajectory/segment_lookup.hpp"
+
 namespace kiloloop {
 namespace {
 
@@ -69,9 +71,7 @@ Status QuinticTrajectory::sample(double t, Eigen::Ref<Eigen::VectorXd> q,
     status = Status::kNonFiniteReference;
   }
   // Segment k covers [times_k, times_k+1]; clamping s holds the end points at rest.
-  const Eigen::Index last = times_.size() - 2;
-  Eigen::Index k = 0;
-  while (k < last && t >= times_[k + 1]) ++k;
+  const Eigen::Index k = segment_at(times_, t);
   const double T = times_[k + 1] - times_[k];
   const double s = std::fmin(std::fmax(t - times_[k], 0.0), T);
   for (Eigen::Index j = 0; j < n; ++j) {

@@ -3,6 +3,8 @@
 #include <cmath>
 #include <limits>
 
+#include "kiloloop/trajectory/segment_lookup.hpp"
+
 namespace kiloloop {
 namespace {
 
@@ -70,9 +72,7 @@ Status TrapezoidTrajectory::sample(double t, Eigen::Ref<Eigen::VectorXd> q,
     t = times_[0];
     status = Status::kNonFiniteReference;
   }
-  const Eigen::Index last = times_.size() - 2;
-  Eigen::Index k = 0;
-  while (k < last && t >= times_[k + 1]) ++k;
+  const Eigen::Index k = segment_at(times_, t);
   const double T = times_[k + 1] - times_[k];
   const double tau = std::fmin(std::fmax(t - times_[k], 0.0), T);
   // Path parameter s(tau) in [0, 1], its rate and acceleration.
