@@ -112,8 +112,8 @@ def test_version_is_single_sourced():
     assert kl.__version__ == repo_version.read_text().strip()
 
 
-def test_model_files_names_each_robots_urdf_and_overlay():
+def test_model_files_names_each_robots_urdf_and_sim_sections():
     for robot in ("ur5", "quadruped", "aerial_manipulator"):
-        urdf, overlay = kl.model_files(robot)
+        urdf, sim = kl.model_files(robot)
         assert urdf.is_file() and urdf.name == f"{robot}.urdf"
-        assert overlay.is_file() and overlay.name == "sim.toml"
+        assert sim["physics"]["timestep"] == 0.001

@@ -10,7 +10,7 @@ arm_estop = scenarios.get("arm-estop")
 
 
 def run(duration=None, **overrides):
-    return arm_estop.run(scenarios.parse_settings(arm_estop.DEFAULTS, overrides), duration=duration)
+    return scenarios.run_named("arm-estop", overrides=overrides, duration=duration)
 
 
 @pytest.fixture(scope="module")

@@ -9,7 +9,7 @@ arm_line = scenarios.get("arm-line")
 
 
 def run(duration=None, **overrides):
-    return arm_line.run(scenarios.parse_settings(arm_line.DEFAULTS, overrides), duration=duration)
+    return scenarios.run_named("arm-line", overrides=overrides, duration=duration)
 
 
 @pytest.fixture(scope="module")
@@ -48,7 +48,8 @@ def test_clik_feedback_removes_the_integration_drift(default_run):
 def test_line_sampling_is_a_straight_line_with_fixed_axis_rotation(ur5_model):
     q0 = np.array([0.0, -1.5707963267948966, 1.5707963267948966, -1.5707963267948966,
                    -1.5707963267948966, 0.0])
-    line = arm_line.make_line(ur5_model, q0, arm_line.DEFAULTS)
+    _, settings = scenarios.prepare(arm_line)  # the UR5's robot file gives the line
+    line = arm_line.make_line(ur5_model, q0, settings)
     T0, v0, _ = line.sample(line.start_time)
     T1, v1, _ = line.sample(line.end_time)
     assert np.allclose(v0, 0) and np.allclose(v1, 0)

@@ -10,7 +10,7 @@ arm_press = scenarios.get("arm-press")
 
 
 def run(duration=None, **overrides):
-    return arm_press.run(scenarios.parse_settings(arm_press.DEFAULTS, overrides), duration=duration)
+    return scenarios.run_named("arm-press", overrides=overrides, duration=duration)
 
 
 @pytest.fixture(scope="module")

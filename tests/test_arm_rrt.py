@@ -10,7 +10,7 @@ arm_rrt = scenarios.get("arm-rrt")
 
 
 def run(**overrides):
-    return arm_rrt.run(scenarios.parse_settings(arm_rrt.DEFAULTS, overrides))
+    return scenarios.run_named("arm-rrt", overrides=overrides)
 
 
 @pytest.fixture(scope="module")
@@ -45,13 +45,13 @@ def test_the_box_blocks_the_straight_path():
 
 @pytest.mark.parametrize("seed", [1, 2, 3])
 def test_other_seeds_also_pass(seed):
-    r = arm_rrt.run(scenarios.parse_settings(arm_rrt.DEFAULTS, None), seed=seed)
+    r = scenarios.run_named("arm-rrt", seed=seed)
     assert r.passed, {k: c["value"] for k, c in r.criteria.items()}
 
 
 def test_planning_is_deterministic_for_a_seed():
-    a = arm_rrt.run(scenarios.parse_settings(arm_rrt.DEFAULTS, None), seed=3, duration=0.01)
-    b = arm_rrt.run(scenarios.parse_settings(arm_rrt.DEFAULTS, None), seed=3, duration=0.01)
+    a = scenarios.run_named("arm-rrt", seed=3, duration=0.01)
+    b = scenarios.run_named("arm-rrt", seed=3, duration=0.01)
     for key in ("plan_iterations", "tree_nodes", "path_length_rad", "waypoints"):
         assert a.metrics[key] == b.metrics[key]
 

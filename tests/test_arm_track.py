@@ -7,7 +7,7 @@ arm_track = scenarios.get("arm-track")
 
 
 def run(**overrides):
-    return arm_track.run(scenarios.parse_settings(arm_track.DEFAULTS, overrides))
+    return scenarios.run_named("arm-track", overrides=overrides)
 
 
 @pytest.fixture(scope="module")

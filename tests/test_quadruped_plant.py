@@ -2,7 +2,6 @@
 wiring by joint name, masses and inertias, analytic leg kinematics, static equilibrium on flat and
 sloped ground (contact forces = weight), push impulses and the IMU's specific-force convention.
 """
-import tomllib
 import xml.etree.ElementTree as ET
 
 import mujoco
@@ -14,7 +13,7 @@ from kiloloop.sil.floating_plant import FloatingBasePlant
 
 MODEL_DIR = kl.models_dir() / "quadruped"
 URDF = MODEL_DIR / "quadruped.urdf"
-OVERLAY = MODEL_DIR / "sim.toml"
+OVERLAY = kl.Robot.load("quadruped").sim  # the robot file's [sim.*] sections
 SEED = 1207
 LEGS = {"FL": (1, 1), "FR": (1, -1), "RL": (-1, 1), "RR": (-1, -1)}  # (sx, sy)
 JOINTS = [f"{leg}_{j}" for leg in LEGS for j in ("hip_abd", "hip_pitch", "knee")]
@@ -131,7 +130,7 @@ def test_standing_pose_puts_feet_on_the_ground_below_the_hips(plant):
     np.testing.assert_allclose(plant.foot_positions(), expected, rtol=0, atol=1e-6)
     assert STAND_DEPTH == pytest.approx(0.311, abs=5e-4)
     # without [base] pos0 the plant computes the same height from the feet's geometry
-    overlay = tomllib.loads(OVERLAY.read_text())
+    overlay = kl.Robot.load("quadruped").sim
     del overlay["base"]
     auto = FloatingBasePlant(URDF, overlay)
     np.testing.assert_allclose(auto.base_pos0, plant.base_pos0, rtol=0, atol=1e-6)

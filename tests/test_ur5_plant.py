@@ -10,11 +10,12 @@ import mujoco
 import numpy as np
 import pytest
 
+import kiloloop as kl
 from kiloloop.sil.plant import MujocoPlant
 
 ROOT = Path(__file__).resolve().parents[1]
 URDF = ROOT / "models" / "ur5" / "ur5.urdf"
-OVERLAY = ROOT / "models" / "ur5" / "sim.toml"
+OVERLAY = kl.Robot.load("ur5").sim  # the robot file's [sim.*] sections
 SEED = 5150
 JOINTS = ["shoulder_pan_joint", "shoulder_lift_joint", "elbow_joint",
           "wrist_1_joint", "wrist_2_joint", "wrist_3_joint"]

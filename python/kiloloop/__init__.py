@@ -10,6 +10,7 @@ from pathlib import Path as _Path
 from ._core import *  # noqa: F401,F403
 from ._core import __version__  # noqa: F401
 from ._core import qp  # noqa: F401  (kl.qp.solve, kl.qp.DenseQpSolver)
+from .robot import Robot, RobotFileError  # noqa: F401  (robot files: docs/robots.md)
 
 
 def models_dir() -> _Path:
@@ -17,7 +18,8 @@ def models_dir() -> _Path:
     return _Path(str(_files("kiloloop") / "models"))
 
 
-def model_files(robot: str) -> tuple[_Path, _Path]:
-    """A robot's URDF and its simulator overlay: models/<robot>/<robot>.urdf and sim.toml."""
-    base = models_dir() / robot
-    return base / f"{robot}.urdf", base / "sim.toml"
+def model_files(robot) -> tuple[_Path, dict]:
+    """A robot's URDF path and its simulator sections ([sim.*] of its robot file), as the plants
+    take them. `robot`: a name in models/, a robot file or directory, or a loaded `Robot`."""
+    r = robot if isinstance(robot, Robot) else Robot.load(robot)
+    return r.urdf, r.sim

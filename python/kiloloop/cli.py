@@ -37,11 +37,13 @@ def cmd_run(args) -> int:
 
     try:
         module = scenarios.get(args.scenario)
-        settings = scenarios.parse_settings(module.DEFAULTS, args.set)
+        robot, settings = scenarios.prepare(module, args.robot, args.set)
     except (KeyError, ValueError) as e:
         print(f"kiloloop run: {e.args[0]}", file=sys.stderr)
         return 2
-    result = module.run(settings, seed=args.seed, duration=args.duration)
+    if args.video:
+        settings["video"] = args.video
+    result = scenarios.run(module, settings, robot, seed=args.seed, duration=args.duration)
     if args.log:
         result.log.save(args.log)
     if args.plot:
@@ -53,7 +55,7 @@ def cmd_run(args) -> int:
         print(json.dumps(result.to_json()))
     else:
         _print_summary(result, settings)
-        for label, path in (("log", args.log), ("plot", args.plot)):
+        for label, path in (("log", args.log), ("plot", args.plot), ("video", args.video)):
             if path:
                 print(f"  {label}: {path}")
     return 0 if result.passed else 1
@@ -67,7 +69,7 @@ def cmd_sweep(args) -> int:
         if not grid:
             raise ValueError("give at least one --grid KEY=V1,V2,...")
         results = sweep.run_sweep(args.scenario, grid, workers=args.workers, seed=args.seed,
-                                  duration=args.duration)
+                                  duration=args.duration, robot=args.robot, sets=args.set)
     except (KeyError, ValueError) as e:
         print(f"kiloloop sweep: {e.args[0]}", file=sys.stderr)
         return 2
@@ -93,7 +95,13 @@ def cmd_sweep(args) -> int:
 def cmd_bench(args) -> int:
     from .bench import run_benchmarks
 
-    return run_benchmarks(quick=args.quick, as_json=args.json)
+    return run_benchmarks(quick=args.quick, as_json=args.json, robot=args.robot)
+
+
+def cmd_robot_check(args) -> int:
+    from .robot.check import check
+
+    return check(args.file)
 
 
 def main(argv=None) -> int:
@@ -104,11 +112,15 @@ def main(argv=None) -> int:
     run.add_argument("scenario")
     run.add_argument("--duration", type=float, default=None, help="simulated time [s]")
     run.add_argument("--seed", type=int, default=0, help="seed for noise and randomness")
+    run.add_argument("--robot", default=None, metavar="NAME|FILE",
+                     help="robot name in models/ or a robot file (default: the scenario's own)")
     run.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",
-                     help="override a scenario setting (repeatable)")
+                     help="override a scenario setting, or a robot-file key by its dotted path "
+                          "(controller.kp=400) (repeatable)")
     run.add_argument("--json", action="store_true", help="print one JSON object")
     run.add_argument("--plot", metavar="PNG", help="write a plot")
     run.add_argument("--log", metavar="NPZ", help="write the signal log")
+    run.add_argument("--video", metavar="MP4", help="render the run (MuJoCo offscreen, 30 fps)")
     run.set_defaults(func=cmd_run)
     sweep = sub.add_parser("sweep", help="run a scenario over a grid of settings, in parallel")
     sweep.add_argument("scenario")
@@ -121,11 +133,21 @@ def main(argv=None) -> int:
                        help="writes PREFIX.csv and PREFIX.png (default: sweep-SCENARIO)")
     sweep.add_argument("--duration", type=float, default=None, help="simulated time per run [s]")
     sweep.add_argument("--seed", type=int, default=0)
+    sweep.add_argument("--robot", default=None, metavar="NAME|FILE")
+    sweep.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",
+                       help="fixed overrides for every run (as in `kiloloop run`)")
     sweep.set_defaults(func=cmd_sweep)
     bench = sub.add_parser("bench", help="timing and allocation benchmarks")
     bench.add_argument("--quick", action="store_true", help="fewer calls, for a smoke test")
     bench.add_argument("--json", action="store_true", help="print one JSON object")
+    bench.add_argument("--robot", default=None, metavar="NAME|FILE",
+                       help="also time the SIL loop and steps of this robot")
     bench.set_defaults(func=cmd_bench)
+    robot = sub.add_parser("robot", help="robot files: check one")
+    robot_sub = robot.add_subparsers(dest="robot_command", required=True)
+    check = robot_sub.add_parser("check", help="load everything, print what was derived")
+    check.add_argument("file", metavar="NAME|FILE")
+    check.set_defaults(func=cmd_robot_check)
     args = parser.parse_args(argv)
     return args.func(args)
 

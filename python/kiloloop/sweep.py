@@ -54,15 +54,20 @@ def _divergence(result) -> str:
     return ""
 
 
-def run_one(scenario: str, params: dict, seed: int, duration: float | None) -> dict:
-    """One run in a worker process; never raises (an exception becomes the failure reason)."""
+def run_one(scenario: str, params: dict, seed: int, duration: float | None, robot=None,
+            sets=None) -> dict:
+    """One run in a worker process; never raises (an exception becomes the failure reason).
+    params (the grid point) and sets (fixed --set items) may name scenario settings or dotted
+    robot-file keys."""
     start = time.perf_counter()
     try:
         from . import scenarios
 
         module = scenarios.get(scenario)
-        settings = scenarios.parse_settings(module.DEFAULTS, params)
-        result = module.run(settings, seed=seed, duration=duration)
+        overrides = dict(item.split("=", 1) for item in (sets or []))
+        overrides.update(params)
+        robot_obj, settings = scenarios.prepare(module, robot, overrides)
+        result = scenarios.run(module, settings, robot_obj, seed=seed, duration=duration)
         metrics = {k: float(v) for k, v in result.metrics.items()}
         return {"params": params, "passed": bool(result.passed), "metrics": metrics,
                 "reason": _divergence(result), "wall_s": time.perf_counter() - start}
@@ -81,22 +86,26 @@ def _progress(done: int, total: int, failed: int, stream) -> None:
 
 
 def run_sweep(scenario: str, grid: dict[str, list[str]], workers: int | None = None,
-              seed: int = 0, duration: float | None = None, stream=sys.stderr) -> list[dict]:
+              seed: int = 0, duration: float | None = None, stream=sys.stderr, robot=None,
+              sets=None) -> list[dict]:
     """All combinations, `workers` processes (default: the machine's cores); results in grid
-    order. A worker that dies takes only its own run with it."""
+    order. A worker that dies takes only its own run with it. Grid keys are scenario settings or
+    dotted robot-file keys (controller.kp); robot and sets as in `kiloloop run`."""
     from . import scenarios
 
     module = scenarios.get(scenario)  # unknown scenario: KeyError before any process starts
-    for key in grid:
-        if key not in module.DEFAULTS:
-            raise ValueError(f"unknown setting {key!r}; known: {', '.join(sorted(module.DEFAULTS))}")
+    # Every grid value checked here (unknown key, bad robot file) before any process starts.
+    for point in combinations(grid)[:1] + [{}]:
+        overrides = dict(item.split("=", 1) for item in (sets or []))
+        overrides.update(point)
+        scenarios.prepare(module, robot, overrides)
     combos = combinations(grid)
     workers = max(1, int(workers or os.cpu_count() or 1))
     results: list[dict | None] = [None] * len(combos)
     failed = 0
     _progress(0, len(combos), 0, stream)
     with ProcessPoolExecutor(max_workers=workers) as pool:
-        futures = {pool.submit(run_one, scenario, p, seed, duration): i for i, p in enumerate(combos)}
+        futures = {pool.submit(run_one, scenario, p, seed, duration, robot, sets): i for i, p in enumerate(combos)}
         for done, future in enumerate(as_completed(futures), 1):
             i = futures[future]
             try:

@@ -56,27 +56,32 @@ def _python_step_seconds(calls: int) -> float:
     return (time.perf_counter() - start) / calls
 
 
-def sil_benchmark(quick: bool) -> dict:
-    from ..scenarios import arm_track, parse_settings
-    from ..sil.plant import MujocoPlant
+def sil_benchmark(quick: bool, robot=None) -> dict:
+    """arm-track on an arm robot file (default: kiloloop's UR5): whole scenario, bare loop, and
+    the raw mj_step it costs."""
+    from .. import scenarios
+    from ..scenarios import arm_track
+    from ..sil.arm_adapters import JointTrackingTick
+    from ..sil.arm_rig import ArmRig, controller
+    from ..sil.loop import LoopSettings, run_loop
 
     duration = 1.0 if quick else arm_track.DURATION
-    settings = parse_settings(arm_track.DEFAULTS, None)
+    robot_obj, settings = scenarios.prepare(arm_track, robot)
     start = time.perf_counter()
-    result = arm_track.run(settings, duration=duration)
+    result = scenarios.run(arm_track, settings, robot_obj, duration=duration)
     wall = time.perf_counter() - start
     ticks = result.metrics["ticks"]
 
     # The same loop without scenario set-up (URDF load, MjSpec compile) and post-processing.
-    base = kl.models_dir() / "ur5"
-    plant = MujocoPlant(base / "ur5.urdf", base / "sim.toml")
+    rig = ArmRig(robot_obj)
+    plant = rig.plant
     raw_step = _raw_mj_step_seconds(plant, ticks)
-    from ..sil.loop import LoopSettings, run_loop
-
-    model = kl.RobotModel.from_urdf(str(base / "ur5.urdf"))
-    traj = kl.QuinticTrajectory(np.vstack([plant.q0, settings["waypoint_1"], settings["waypoint_2"]]),
-                                np.array([0.0, settings["t_1"], settings["t_2"]]))
-    tick = arm_track.JointTrackingTick(kl.ComputedTorqueController(model), traj)
+    s = result.settings
+    points = np.vstack([s["q_start"], s["waypoint_1"], s["waypoint_2"]])
+    plant.q0 = points[0]
+    plant.reset()
+    traj = kl.QuinticTrajectory(points, np.array([0.0, s["t_1"], s["t_2"]]))
+    tick = JointTrackingTick(controller(robot_obj, rig.model, "computed_torque", points[0]), traj)
     start = time.perf_counter()
     run_loop(plant, tick, LoopSettings(duration=duration))
     loop_wall = time.perf_counter() - start
@@ -84,10 +89,11 @@ def sil_benchmark(quick: bool) -> dict:
     # Tracking figures of both joint controllers on the same trajectory (full duration).
     tracking = {}
     for controller in ("computed_torque", "pd_gravity"):
-        r = arm_track.run(parse_settings(arm_track.DEFAULTS, {"controller": controller}))
+        r = scenarios.run_named("arm-track", robot_obj, {"controller": controller})
         tracking[controller] = {k: r.metrics[k] for k in ("max_joint_error_rad", "max_ee_error_m")}
     return {
         "scenario": "arm-track",
+        "robot": robot_obj.name,
         "tracking": tracking,
         "sim_seconds": duration,
         "ticks": ticks,
@@ -180,7 +186,10 @@ def print_rig_sil(q: dict) -> None:
     print(f"  controller step via Python         {q['python_controller_step_us']:8.2f} us")
 
 
-def run_benchmarks(quick: bool = False, as_json: bool = False) -> int:
+def run_benchmarks(quick: bool = False, as_json: bool = False, robot=None) -> int:
+    """Every benchmark; with `robot` (an arm robot file) only the SIL loop and tracking on it."""
+    if robot is not None:
+        return _robot_benchmark(robot, quick, as_json)
     from .aerial_bench import print_aerial_bench, run_aerial_bench
     from .arm_bench import print_arm_bench, run_arm_bench
     from .calibration_bench import print_calibration_bench, run_calibration_bench
@@ -247,3 +256,19 @@ def _print_limits(limits: dict) -> None:
     for impulse, r in push["runs"].items():
         print(f"    {float(impulse):5.1f} N s  passed={r['passed']!s:<5}  fell={r['fell']:.0f}  "
               f"roll peak {r['roll_peak_deg']:.2f} deg  roll after 0.8 s {r['roll_after_recovery_deg']:.2f} deg  (worst seed)")
+
+
+def _robot_benchmark(robot, quick: bool, as_json: bool) -> int:
+    from ..robot import Robot
+
+    r = Robot.load(robot)
+    if r.kind != "arm":
+        print(f"kiloloop bench --robot: only arm robot files so far ({r.name} is {r.kind})",
+              file=sys.stderr)
+        return 2
+    sil = sil_benchmark(quick, r)
+    if as_json:
+        print(json.dumps({"robot": r.name, "sil": sil}))
+    else:
+        _print_sil(sil)
+    return 0

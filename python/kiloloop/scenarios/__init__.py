@@ -1,8 +1,13 @@
 """SIL scenarios, one file per scenario, registered by name (`kiloloop list`).
 
-A scenario module defines NAME, DESCRIPTION, DEFAULTS (settings a user may --set), CRITERIA
-(metric -> (comparison, threshold)) and run(settings, seed) -> ScenarioResult. The criteria live
-beside the scenario and are the very ones its pytest asserts.
+A scenario module defines NAME, DESCRIPTION, ROBOT (the robot it runs on by default, a name in
+models/), DEFAULTS (settings a user may --set), CRITERIA (metric -> (comparison, threshold)) and
+run(settings, seed, duration, robot) -> ScenarioResult; optionally derive(robot) -> settings that
+depend on the robot (waypoints, sizes: from its limits and geometry, never from one model). The
+criteria live beside the scenario and are the very ones its pytest asserts.
+
+Settings are layered: DEFAULTS < derive(robot) < the robot file's [scenario.<name>] < --set.
+A --set key with a dot (`controller.kp=400`) or naming a robot-file table sets the robot file.
 """
 from __future__ import annotations
 
@@ -70,6 +75,76 @@ def get(name: str):
     if name not in _MODULES:
         raise KeyError(f"unknown scenario {name!r}; known: {', '.join(_MODULES)}")
     return importlib.import_module(f"{__name__}.{_MODULES[name]}")
+
+
+def split_overrides(items: list[str] | dict | None) -> tuple[dict, dict]:
+    """--set items -> (robot-file overrides by dotted key, scenario settings)."""
+    pairs = list(items.items()) if isinstance(items, dict) else []
+    if not isinstance(items, dict):
+        for item in items or []:
+            if "=" not in item:
+                raise ValueError(f"--set {item!r}: expected KEY=VALUE")
+            pairs.append(item.split("=", 1))
+    robot_sets, scenario_sets = {}, {}
+    for key, value in pairs:
+        (robot_sets if "." in key else scenario_sets)[key] = value
+    return robot_sets, scenario_sets
+
+
+def default_robot(module) -> str:
+    return getattr(module, "ROBOT", None) or {"arm": "ur5", "quadruped": "quadruped",
+                                              "aerial": "aerial_manipulator"}[module.NAME.split("-")[0]]
+
+
+def kind_of(module) -> str:
+    return module.NAME.split("-")[0]
+
+
+def prepare(module, robot=None, overrides: list[str] | dict | None = None):
+    """The robot (loaded, --set applied) and the scenario settings for one run.
+
+    robot: None (the scenario's own), a name, a robot file or directory, or a loaded Robot.
+    Raises ValueError (RobotFileError included) with a message fit for one line.
+    """
+    import inspect
+
+    from ..robot import Robot
+
+    robot_sets, scenario_sets = split_overrides(overrides)
+    if not isinstance(robot, Robot):
+        robot = Robot.load(default_robot(module) if robot is None else robot)
+    if robot_sets:
+        robot = robot.with_overrides(robot_sets)
+    if robot.kind != kind_of(module):
+        raise ValueError(f"{module.NAME} needs a robot of kind '{kind_of(module)}'; "
+                         f"{robot.name} is '{robot.kind}'")
+    if "robot" not in inspect.signature(module.run).parameters and (
+            robot.name != default_robot(module) or robot_sets):
+        raise ValueError(f"{module.NAME} runs only on its own robot '{default_robot(module)}' so "
+                         f"far (it does not read robot files yet)")
+    settings = dict(module.DEFAULTS)
+    if hasattr(module, "derive"):
+        settings.update(module.derive(robot))
+    settings = parse_settings(settings, robot.scenario_overrides(module.NAME))
+    settings = parse_settings(settings, scenario_sets)
+    return robot, settings
+
+
+def run_named(name: str, robot=None, overrides: list[str] | dict | None = None, seed: int = 0,
+              duration=None) -> ScenarioResult:
+    """What `kiloloop run NAME --robot ROBOT --set ...` runs (tests and scripts use it)."""
+    module = get(name)
+    robot, settings = prepare(module, robot, overrides)
+    return run(module, settings, robot, seed=seed, duration=duration)
+
+
+def run(module, settings: dict, robot, seed: int = 0, duration=None):
+    """module.run with the robot when the scenario reads robot files."""
+    import inspect
+
+    if "robot" in inspect.signature(module.run).parameters:
+        return module.run(settings, seed=seed, duration=duration, robot=robot)
+    return module.run(settings, seed=seed, duration=duration)
 
 
 def parse_settings(defaults: dict, overrides: list[str] | dict | None) -> dict:

@@ -1,10 +1,12 @@
-"""arm-line: the UR5 end effector follows a Cartesian straight line with slerp orientation.
+"""arm-line: an arm's end effector follows a Cartesian straight line with slerp orientation.
 
 The reference is a `CartesianLine` (Corke's `ctraj`: straight line, fixed-axis rotation, quintic
 time scaling) sampled at 1 kHz; the compiled `CartesianTrackingController` turns it into a joint
 reference by differential IK (CLIK, damped least squares near singularities) and into torques by
-computed torque. The plant is MuJoCo built from the same URDF (models/ur5/ur5.urdf + sim.toml).
-The end-effector error is measured on MuJoCo's `ee_site`, against the line itself.
+computed torque. The plant is MuJoCo built from the same robot file. The end-effector error is
+measured on MuJoCo's `ee_site`, against the line itself. Any arm: the line starts at the robot's
+work pose; unless given, its length is 20 % of the reach and its rotation 0.5 rad, along the first
+of a fixed list of directions whose line the IK can follow within the limits (sil/arm_rig.py).
 """
 from __future__ import annotations
 
@@ -12,17 +14,19 @@ import numpy as np
 
 import kiloloop as kl
 
+from ..sil.arm_adapters import CartesianTick
+from ..sil.arm_rig import ArmRig, line_target, work_pose
 from ..sil.log import SignalLog
-from ..sil.loop import LoopSettings, Measurement, run_loop
-from ..sil.plant import MujocoPlant
 from . import ScenarioResult, evaluate
 
 NAME = "arm-line"
-DESCRIPTION = "UR5 end effector on a Cartesian straight line + slerp (differential IK + computed torque)"
+DESCRIPTION = "arm end effector on a Cartesian straight line + slerp (differential IK + computed torque)"
 DURATION = 3.0  # [s] default simulated time: 0.25 s still, 2.25 s line, 0.5 s holding the end
 DEFAULTS = {
-    "displacement": [0.15, 0.20, -0.15],  # [m] line end minus start, root (world) frame
-    "rotation": [0.0, 0.4, 0.5],          # [rad] rotation vector from start to end orientation, root frame
+    # Empty: derived (20 % of the reach, 0.5 rad; see the module doc).
+    "displacement": [],                   # [m] line end minus start, chain root frame
+    "rotation": [],                       # [rad] rotation vector from start to end orientation, root frame
+    "q_start": [],                        # [rad] empty: the robot's work pose
     "t_start": 0.25,                      # [s] the line starts
     "line_duration": 2.25,                # [s]
     "task_gain": 50.0,                    # [1/s] CLIK gain on the differential-IK reference
@@ -52,28 +56,6 @@ def _angle(R: np.ndarray) -> float:
     return float(np.arctan2(s, (np.trace(R) - 1.0) / 2.0))
 
 
-class CartesianTick:
-    """Maps a measurement and the line sample onto the compiled controller (glue only)."""
-
-    def __init__(self, controller, line):
-        self.controller, self.line = controller, line
-        self.input, self.output = controller.make_input(), controller.make_output()
-
-    def __call__(self, m: Measurement, log: SignalLog) -> np.ndarray:
-        inp = self.input
-        inp.t, inp.stamp = m.t, m.stamp
-        inp.q[:], inp.qd[:] = m.q, m.qd
-        self.line.sample_into(m.t, inp)
-        status = self.controller.step(inp, self.output)
-        log.record("q", m.q)
-        log.record("q_ref", self.output.q_ref)
-        log.record("tau", self.output.tau)
-        log.record("pose_ref", inp.pose_ref)
-        log.record("ik_error", self.output.task_error)
-        log.record("status", int(status))
-        return self.output.tau.copy()
-
-
 def make_line(model, q0, settings):
     start = kl.Dynamics(model).forward_kinematics(q0)
     end = start.copy()
@@ -82,27 +64,37 @@ def make_line(model, q0, settings):
     return kl.CartesianLine(start, end, settings["t_start"], settings["line_duration"])
 
 
-def run(settings: dict, seed: int = 0, duration: float | None = None) -> ScenarioResult:
+def run(settings: dict, seed: int = 0, duration: float | None = None,
+        robot=None) -> ScenarioResult:
     del seed  # deterministic: no noise in this scenario
-    urdf, overlay = kl.model_files("ur5")
-    plant = MujocoPlant(urdf, overlay, timestep=settings["physics_dt"])
-    model = kl.RobotModel.from_urdf(str(urdf))
-    line = make_line(model, plant.q0, settings)
+    robot = robot or kl.Robot.load("ur5")
+    rig = ArmRig(robot, video=settings.get("video"), timestep=settings["physics_dt"])
+    plant, model = rig.plant, rig.model
+    q0 = np.asarray(settings["q_start"], float) if len(settings["q_start"]) else work_pose(
+        robot, model, plant)
+    if not len(settings["displacement"]) or not len(settings["rotation"]):
+        d, r = line_target(rig, q0)
+        settings = dict(settings, displacement=settings["displacement"] or d.tolist(),
+                        rotation=settings["rotation"] or r.tolist())
+    plant.q0 = q0
+    plant.reset()
+    line = make_line(model, q0, settings)
     config = kl.CartesianTrackingConfig()
     config.task_gain = np.full(6, float(settings["task_gain"]))
     config.joint.max_measurement_age = 0.005 + settings["delay_ticks"] * 0.001
     tick = CartesianTick(kl.CartesianTrackingController(model, config), line)
 
-    def observe(p: MujocoPlant, log: SignalLog) -> None:
+    def observe(p, log: SignalLog) -> None:
         pos, rot = p.ee_pose()
         log.record("ee", pos)
         log.record("ee_rot", rot)
 
-    loop = LoopSettings(duration=DURATION if duration is None else duration,
-                        delay_ticks=settings["delay_ticks"])
-    log = run_loop(plant, tick, loop, observe=observe)
+    log = rig.run(tick, DURATION if duration is None else duration,
+                  delay_ticks=settings["delay_ticks"], observe=observe)
 
-    ref = log["pose_ref"]
+    # The line lives in the chain's root frame; MuJoCo's site in the world frame.
+    T = rig.T_world_root()
+    ref = np.einsum("ij,kjl->kil", T, log["pose_ref"])
     ee_err = np.linalg.norm(log["ee"] - ref[:, :3, 3], axis=1)
     rot_err = np.array([_angle(R_ref.T @ R) for R_ref, R in zip(ref[:, :3, :3], log["ee_rot"])])
     log.put("ee_ref", ref[:, :3, 3])
@@ -122,7 +114,8 @@ def run(settings: dict, seed: int = 0, duration: float | None = None) -> Scenari
         "failed_ticks": int(np.sum(statuses < 0)),
         "ticks": int(len(statuses)),
     }
-    return ScenarioResult(NAME, metrics, evaluate(CRITERIA, metrics), log, dict(settings))
+    settings = dict(settings, q_start=q0.tolist())
+    return ScenarioResult(NAME, metrics, evaluate(CRITERIA, metrics), log, settings)
 
 
 def plot_signals():

@@ -18,7 +18,7 @@ from ..sil.log import SignalLog
 from ..sil.loop import LoopSettings, run_loop
 from ..sil.plant import MujocoPlant
 from . import ScenarioResult, evaluate
-from .arm_track import JointTrackingTick
+from ..sil.arm_adapters import JointTrackingTick
 
 NAME = "arm-rrt"
 DESCRIPTION = "UR5 moves around a box: RRT-Connect + shortcut + trapezoid, no contact in MuJoCo"

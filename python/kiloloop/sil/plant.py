@@ -13,12 +13,16 @@ from pathlib import Path
 import mujoco
 import numpy as np
 
+from .urdf_import import prepare_urdf, weld_joints
+
 _DEFAULTS = {
     "physics": {"timestep": 0.001, "integrator": "implicitfast",
                 "gravity": [0.0, 0.0, -9.81], "floor": True},
-    "joints": {"damping": 0.0, "frictionloss": 0.0, "armature": 0.0, "q0": None},
+    # None: the URDF's <dynamics> damping / friction (0 where it has none).
+    "joints": {"damping": None, "frictionloss": None, "armature": 0.0, "q0": None},
     "actuators": {"type": "motor"},
-    "ee": {"body": "tool0", "site": "ee_site"},
+    # body None: the chain's tip link (the robot file's [chain] tip).
+    "ee": {"body": None, "site": "ee_site"},
 }
 # mj_step1/mj_step2 do not support RK4, and the plant relies on the split (see step()).
 _INTEGRATORS = {"euler": mujoco.mjtIntegrator.mjINT_EULER,
@@ -72,11 +76,17 @@ def _add_joints_and_motors(spec, joint_names, effort, jcfg: dict, actuators: dic
     """Joint damping/friction/armature from the overlay, one torque motor per joint (ctrlrange =
     forcerange = +-effort) and jointpos/jointvel encoders named <joint>_pos, <joint>_vel."""
     n = len(joint_names)
-    damp, fric, arm = (_per_joint(jcfg[k], n, k) for k in ("damping", "frictionloss", "armature"))
-    for name, b, f, a in zip(joint_names, damp, fric, arm):
+    # None: keep what MuJoCo imported from the URDF's <dynamics damping friction> (0 without).
+    damp, fric, arm = (None if jcfg[k] is None else _per_joint(jcfg[k], n, k)
+                       for k in ("damping", "frictionloss", "armature"))
+    for i, name in enumerate(joint_names):
         joint = spec.joint(name)
-        joint.damping = [b, 0.0, 0.0]  # MuJoCo 4: linear coefficient, then polynomial terms
-        joint.frictionloss, joint.armature = f, a
+        if damp is not None:
+            joint.damping = [damp[i], 0.0, 0.0]  # MuJoCo 4: linear coefficient, then polynomial
+        if fric is not None:
+            joint.frictionloss = fric[i]
+        if arm is not None:
+            joint.armature = arm[i]
     if actuators["type"] != "motor":
         raise ValueError(f"actuators.type: only 'motor' is supported, got {actuators['type']!r}")
     for name, e in zip(joint_names, effort):
@@ -91,16 +101,21 @@ def _add_joints_and_motors(spec, joint_names, effort, jcfg: dict, actuators: dic
                         objtype=mujoco.mjtObj.mjOBJ_JOINT, objname=name)
 
 
-def _spec_from_urdf(urdf_path: Path, phys: dict):
+def _spec_from_urdf(urdf_path: Path, phys: dict, package_dirs=(), visual: bool = False,
+                    notes: list | None = None):
     """The URDF as an MjSpec with the compiler settings every plant uses, and the overlay's
-    integrator, timestep and gravity."""
-    spec = mujoco.MjSpec.from_file(str(urdf_path))
+    integrator, timestep and gravity. Mesh URIs are resolved and unreadable meshes replaced
+    (sil/urdf_import.py); what was changed is appended to `notes`."""
+    xml, changes = prepare_urdf(Path(urdf_path), package_dirs, visual=visual)
+    if notes is not None:
+        notes.extend(changes)
+    spec = mujoco.MjSpec.from_string(xml)
     # The URDF importer fuses fixed-joint children (tool0, the feet) into their parent by default;
     # keep them as bodies: sites, poses and contacts are looked up by link name.
     spec.compiler.fusestatic = False
     # Inertia comes only from <inertial>, never from the collision primitives.
     spec.compiler.inertiafromgeom = mujoco.mjtInertiaFromGeom.mjINERTIAFROMGEOM_FALSE
-    spec.compiler.discardvisual = True
+    spec.compiler.discardvisual = not visual
     integrator = str(phys["integrator"]).lower()
     if integrator not in _INTEGRATORS:
         raise ValueError(f"integrator: expected one of {sorted(_INTEGRATORS)}, "
@@ -125,7 +140,12 @@ class MujocoPlant:
     """A torque-controlled MuJoCo model of a fixed-base URDF robot."""
 
     def __init__(self, urdf_path, overlay=None, *, timestep=None, damping=None, frictionloss=None,
-                 armature=None, floor=None, scene=None):
+                 armature=None, floor=None, scene=None, joints=None, locked=None,
+                 package_dirs=(), visual=False):
+        """overlay: the robot file's [sim] sections (a dict) or a TOML path of them. joints: the
+        controlled chain's joints (default: every movable joint); all other joints are welded at
+        `locked` (joint -> [rad] or [m], default 0). package_dirs: for package:// mesh URIs.
+        visual: keep visual geometry (for rendering)."""
         urdf_path = Path(urdf_path)
         cfg = _load_overlay(overlay)
         phys, jcfg = cfg["physics"], cfg["joints"]
@@ -138,10 +158,23 @@ class MujocoPlant:
         if floor is not None:
             phys["floor"] = floor
 
-        self.joint_names, effort = _urdf_joints(urdf_path)
+        all_names, all_effort = _urdf_joints(urdf_path)
+        if joints is None:
+            joints = all_names
+        missing = [n for n in joints if n not in all_names]
+        if missing:
+            raise ValueError(f"joint {missing[0]!r}: not a movable joint of {urdf_path}")
+        effort_of = dict(zip(all_names, all_effort))
+        self.joint_names = list(joints)
+        effort = np.array([effort_of[n] for n in self.joint_names])
         self.nq = len(self.joint_names)
 
-        spec = _spec_from_urdf(urdf_path, phys)
+        self.notes: list[str] = []
+        spec = _spec_from_urdf(urdf_path, phys, package_dirs, visual, self.notes)
+        welded = weld_joints(spec, self.joint_names, locked)
+        self.welded = len(welded)
+        if welded:
+            self.notes.append(f"welded {len(welded)} joint(s) off the chain: {', '.join(welded)}")
 
         # Robot geoms: contype 0, conaffinity 1. Environment geoms (floor, obstacles; default
         # contype 1) hit them, but two robot geoms never collide, adjacent or not.
@@ -155,6 +188,8 @@ class MujocoPlant:
 
         ee = cfg["ee"]
         self.ee_site = ee["site"]
+        if ee["body"] is None:
+            ee["body"] = "tool0"  # kiloloop's own convention; robot files name their tip
         ee_body = spec.body(ee["body"])
         if ee_body is None:
             raise ValueError(f"ee.body: no link named {ee['body']!r} in {urdf_path}")
@@ -165,7 +200,10 @@ class MujocoPlant:
         if scene is not None:
             scene(spec)
         self.spec = spec  # kept for inspection, e.g. plant.spec.to_xml()
-        self.model = spec.compile()
+        try:
+            self.model = spec.compile()
+        except ValueError as e:
+            raise ValueError(f"MuJoCo refuses {urdf_path.name}: {e}") from None
         self.data = mujoco.MjData(self.model)
         # Scratch data for inverse dynamics, so queries never disturb the simulated state.
         self._scratch = mujoco.MjData(self.model)
@@ -181,6 +219,10 @@ class MujocoPlant:
     @property
     def timestep(self) -> float:
         return float(self.model.opt.timestep)
+
+    def total_mass(self) -> float:
+        """[kg] every body's mass (the world's is 0)."""
+        return float(np.sum(self.model.body_mass))
 
     def _vector(self, x, name: str) -> np.ndarray:
         arr = np.asarray(x, dtype=float)

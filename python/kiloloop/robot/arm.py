@@ -1,0 +1,122 @@
+"""What an arm's robot file does not say, derived from its URDF (never tuned for one arm).
+
+- start pose: [sim.joints] q0 or [chain] q0 if given, else zero moved inside the limits;
+- work pose: a well-conditioned pose near the start pose (Cartesian scenarios start there);
+- joint gains: a target bandwidth (rad/s) and damping ratio, scaled by the mass matrix where the
+  control law needs it (PD + gravity), or exact (computed torque);
+- reach (sil/arm_rig.py, from the plant's geometry): the scale of every Cartesian size a scenario
+  derives.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+# Fraction of a joint's range kept free at each end when the start pose is moved inside it.
+LIMIT_MARGIN = 0.05
+# Joint offsets larger than this [rad] are never derived (continuous joints have no range).
+MAX_OFFSET = 1.0
+
+
+def _finite_range(model) -> tuple[np.ndarray, np.ndarray]:
+    lo, up = np.asarray(model.lower, float), np.asarray(model.upper, float)
+    return lo, up
+
+
+def clip_inside(model, q: np.ndarray, margin: float = LIMIT_MARGIN) -> np.ndarray:
+    """q moved inside [lower, upper] by `margin` of each finite range."""
+    lo, up = _finite_range(model)
+    span = np.where(np.isfinite(up - lo), up - lo, 0.0)
+    return np.clip(q, np.where(np.isfinite(lo), lo + margin * span, -np.inf),
+                   np.where(np.isfinite(up), up - margin * span, np.inf))
+
+
+def start_pose_given(robot) -> bool:
+    return (robot.section("sim").get("joints", {}).get("q0") is not None
+            or robot.section("chain").get("q0") is not None)
+
+
+def start_pose(robot, model) -> np.ndarray:
+    """[rad] the pose the plant starts in (URDF joint order of the chain)."""
+    q0 = robot.section("sim").get("joints", {}).get("q0")
+    if q0 is None:
+        q0 = robot.section("chain").get("q0")
+    q = np.zeros(model.nq) if q0 is None else np.asarray(q0, dtype=float)
+    if q.shape != (model.nq,):
+        raise ValueError(f"{robot.path}: q0 has {q.size} values, the chain has {model.nq} joints")
+    return q if q0 is not None else clip_inside(model, q)
+
+
+def joint_range(model, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Per joint, how far [rad] q may move down and up inside the limits (capped at MAX_OFFSET)."""
+    lo, up = _finite_range(model)
+    inner_lo, inner_up = clip_inside(model, np.full(model.nq, -np.inf)), clip_inside(
+        model, np.full(model.nq, np.inf))
+    down = np.minimum(q - np.where(np.isfinite(lo), inner_lo, -np.inf), MAX_OFFSET)
+    up_ = np.minimum(np.where(np.isfinite(up), inner_up, np.inf) - q, MAX_OFFSET)
+    return np.maximum(down, 0.0), np.maximum(up_, 0.0)
+
+
+def controller_settings(robot) -> dict:
+    from .schema import FREE, schema_for
+
+    out = {k: v for k, v in schema_for("arm")["controller"].items() if v is not FREE}
+    out.update(robot.section("controller"))
+    return out
+
+
+def joint_gains(robot, model, law: str, q: np.ndarray, dynamics=None):
+    """(kp, kd) per joint. computed_torque: kp = w^2, kd = 2 zeta w (unit-mass error dynamics);
+    pd_gravity: the same bandwidth on the diagonal of M(q). Explicit kp/kd in [controller] win."""
+    c = controller_settings(robot)
+    w, zeta = float(c["bandwidth"]), float(c["damping_ratio"])
+    if law == "computed_torque":
+        kp, kd = np.full(model.nq, w * w), np.full(model.nq, 2.0 * zeta * w)
+    else:
+        import kiloloop as kl
+
+        dyn = dynamics or kl.Dynamics(model)
+        m = np.diag(dyn.mass_matrix(q))
+        kp, kd = m * w * w, m * 2.0 * zeta * w
+    if "kp" in c:
+        kp = np.broadcast_to(np.asarray(c["kp"], dtype=float), (model.nq,)).copy()
+    if "kd" in c:
+        kd = np.broadcast_to(np.asarray(c["kd"], dtype=float), (model.nq,)).copy()
+    return kp, kd
+
+
+def summary(robot, model) -> list[str]:
+    """Lines for `kiloloop robot check`: derived settings, the plant, the controllers."""
+    import kiloloop as kl
+
+    from ..sil.arm_rig import build_plant, reach, work_pose
+
+    q0 = start_pose(robot, model)
+    plant = build_plant(robot)
+    qw = work_pose(robot, model, plant)
+    kp, kd = joint_gains(robot, model, "computed_torque", q0)
+    kp_pd, _ = joint_gains(robot, model, "pd_gravity", q0)
+    ik = kl.ArmIk(model)
+    solver = ik.solver() if hasattr(ik, "solver") else ("ur_analytic" if ik.has_analytic
+                                                       else "numeric")
+    why = ik.analytic_reason() if hasattr(ik, "analytic_reason") else ""
+    lines = [
+        "  derived:",
+        f"    start pose q0 [rad]        {_fmt(q0)}",
+        f"    work pose [rad]            {_fmt(qw)}",
+        f"    reach [m]                  {reach(plant):.4g}",
+        f"    computed torque kp, kd     {kp[0]:.4g}, {kd[0]:.4g} (bandwidth "
+        f"{controller_settings(robot)['bandwidth']:.4g} rad/s)",
+        f"    PD + gravity kp            {_fmt(kp_pd)}",
+        f"    IK solver                  {solver}" + (f" ({why})" if why else ""),
+        f"  plant: {plant.model.nbody - 1} bodies, {plant.nq} actuated joints "
+        f"({', '.join(plant.joint_names)}), {plant.welded} welded; mass {plant.total_mass():.4g} kg"
+        f" (model {model.total_mass:.4g} kg)",
+    ]
+    for note in plant.notes:
+        lines.append(f"    note: {note}")
+    kl.ComputedTorqueController(model)
+    return lines
+
+
+def _fmt(x) -> str:
+    return "[" + ", ".join(f"{v:.4g}" for v in np.asarray(x, dtype=float)) + "]"

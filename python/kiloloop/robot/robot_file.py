@@ -1,0 +1,217 @@
+"""Robot: a parsed, validated robot file (TOML) and the URDF it names.
+
+Only the file's own content lives here; what is derived from the URDF (start pose, gains,
+scenario sizes) is computed by the family modules beside this one, so that a value the file gives
+always wins and a value it omits always comes from the robot's own masses and geometry.
+"""
+from __future__ import annotations
+
+import copy
+import hashlib
+import os
+import tomllib
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from . import schema
+
+
+class RobotFileError(ValueError):
+    """A robot file that cannot be used; the message names the file and the key at fault."""
+
+
+def _models_dir() -> Path:
+    from .. import models_dir
+
+    return models_dir()
+
+
+def known_robots() -> list[str]:
+    return sorted(p.parent.name for p in _models_dir().glob("*/robot.toml"))
+
+
+def resolve_robot_path(name_or_path) -> Path:
+    """A robot file: an existing .toml file, a directory holding robot.toml, or the name of a
+    robot in kiloloop's models/ (models/<name>/robot.toml)."""
+    p = Path(name_or_path)
+    if p.is_file():
+        return p
+    if p.is_dir():
+        if (p / "robot.toml").is_file():
+            return p / "robot.toml"
+        raise RobotFileError(f"{p}: directory has no robot.toml")
+    if p.suffix == ".toml" or os.sep in str(name_or_path):
+        raise RobotFileError(f"{p}: robot file not found")
+    candidate = _models_dir() / str(name_or_path) / "robot.toml"
+    if candidate.is_file():
+        return candidate
+    raise RobotFileError(f"no robot named '{name_or_path}' (not a file either); known: "
+                         f"{', '.join(known_robots())}")
+
+
+def parse_value(text: str):
+    """A --set value as TOML would read it (1, 2.5, true, [1, 2], "s"); a bare word stays a str."""
+    try:
+        return tomllib.loads(f"v = {text}")["v"]
+    except tomllib.TOMLDecodeError:
+        return text
+
+
+def _set_dotted(data: dict, dotted: str, value) -> None:
+    keys = dotted.split(".")
+    node = data
+    for k in keys[:-1]:
+        nxt = node.setdefault(k, {})
+        if not isinstance(nxt, dict):
+            raise RobotFileError(f"--set {dotted}: '{k}' is not a table")
+        node = nxt
+    node[keys[-1]] = value
+
+
+@dataclass(frozen=True)
+class Robot:
+    path: Path              # the robot file
+    data: dict              # its content, overrides applied
+    overrides: dict = field(default_factory=dict)  # dotted key -> value, as applied
+
+    # --- loading -------------------------------------------------------------------------------
+    @classmethod
+    def load(cls, name_or_path, overrides: dict | None = None) -> "Robot":
+        path = resolve_robot_path(name_or_path).resolve()
+        try:
+            with open(path, "rb") as f:
+                data = tomllib.load(f)
+        except tomllib.TOMLDecodeError as e:
+            raise RobotFileError(f"{path}: not valid TOML: {e}") from None
+        robot = cls(path=path, data=data)
+        robot._validate()
+        return robot.with_overrides(overrides) if overrides else robot
+
+    def with_overrides(self, overrides: dict) -> "Robot":
+        """A copy with dotted keys set (`controller.kp`, `sim.joints.damping`); string values are
+        read as TOML values. The result is validated like a file."""
+        data = copy.deepcopy(self.data)
+        applied = dict(self.overrides)
+        for key, value in overrides.items():
+            value = parse_value(value) if isinstance(value, str) else value
+            _set_dotted(data, key, value)
+            applied[key] = value
+        robot = Robot(path=self.path, data=data, overrides=applied)
+        robot._validate(source="--set")
+        return robot
+
+    def _validate(self, source: str | None = None) -> None:
+        where = f"{self.path}" + (f" (with {source})" if source else "")
+        d = self.data
+        for key in ("name", "kind", "urdf"):
+            if key not in d:
+                raise RobotFileError(f"{where}: missing key '{key}'")
+        if d["kind"] not in schema.KINDS:
+            raise RobotFileError(f"{where}: kind = {d['kind']!r}; expected one of "
+                                 f"{', '.join(schema.KINDS)}")
+        bad = schema.unknown_keys(d, schema.schema_for(d["kind"]))
+        if bad:
+            raise RobotFileError(f"{where}: unknown key '{bad[0]}'")
+        for section, keys in _REQUIRED[d["kind"]].items():
+            for k in keys:
+                if not d.get(section, {}).get(k):
+                    raise RobotFileError(f"{where}: missing key '{section}.{k}'")
+        if not self.urdf.is_file():
+            raise RobotFileError(f"{where}: urdf: file not found: {self.urdf}")
+        for name, values in d.get("scenario", {}).items():
+            self._check_scenario_section(name, values, where)
+
+    def _check_scenario_section(self, name: str, values, where: str) -> None:
+        from .. import scenarios
+
+        if name not in scenarios.names():
+            raise RobotFileError(f"{where}: unknown key 'scenario.{name}' (no such scenario)")
+        if not isinstance(values, dict):
+            raise RobotFileError(f"{where}: scenario.{name}: expected a table")
+        known = scenarios.get(name).DEFAULTS
+        for key in values:
+            if key not in known:
+                raise RobotFileError(f"{where}: unknown key 'scenario.{name}.{key}'")
+
+    # --- what the file says ----------------------------------------------------------------------
+    @property
+    def name(self) -> str:
+        return str(self.data["name"])
+
+    @property
+    def kind(self) -> str:
+        return str(self.data["kind"])
+
+    @property
+    def dir(self) -> Path:
+        return self.path.parent
+
+    @property
+    def urdf(self) -> Path:
+        p = Path(self.data["urdf"])
+        return p if p.is_absolute() else (self.dir / p)
+
+    @property
+    def package_dirs(self) -> list[Path]:
+        dirs = [Path(d) if Path(d).is_absolute() else self.dir / d
+                for d in self.data.get("package_dirs", [])]
+        # ROS's own search path comes last: a file's list wins.
+        dirs += [Path(d) for d in os.environ.get("ROS_PACKAGE_PATH", "").split(os.pathsep) if d]
+        return dirs
+
+    def section(self, name: str) -> dict:
+        """A top-level table (empty when absent): chain, legs, vehicle, controller, sim, ..."""
+        return copy.deepcopy(self.data.get(name, {}))
+
+    @property
+    def sim(self) -> dict:
+        """The plant's sections ([sim.physics], [sim.joints], ...) as the plants take them."""
+        return self.section("sim")
+
+    def scenario_overrides(self, scenario: str) -> dict:
+        return dict(self.data.get("scenario", {}).get(scenario, {}))
+
+    def urdf_text(self) -> str:
+        return self.urdf.read_text()
+
+    def resolved_urdf_text(self) -> str:
+        """The URDF with mesh URIs (package://, relative) turned into absolute file paths."""
+        from .packages import resolve_urdf_text
+
+        return resolve_urdf_text(self.urdf_text(), self.urdf.parent, self.package_dirs)
+
+    def digest(self) -> str:
+        """SHA-256 of the robot file and its URDF (what a firmware export records)."""
+        h = hashlib.sha256()
+        h.update(self.path.read_bytes())
+        h.update(self.urdf.read_bytes())
+        return h.hexdigest()
+
+    # --- the compiled model ----------------------------------------------------------------------
+    def model(self):
+        """kl.RobotModel of what the controller drives: the arm's root->tip chain (off-chain
+        joints locked, their mass folded in); the whole tree for floating-base robots."""
+        from .. import _core
+
+        if self.kind == "arm":
+            chain = self.data["chain"]
+            locked = {k: float(v) for k, v in chain.get("locked", {}).items()}
+            try:
+                if locked:
+                    return _core.RobotModel.from_urdf(str(self.urdf), chain["root"], chain["tip"],
+                                                      locked)
+                return _core.RobotModel.from_urdf(str(self.urdf), chain["root"], chain["tip"])
+            except (ValueError, RuntimeError) as e:
+                raise RobotFileError(f"{self.path}: {e}") from None
+        try:
+            return _core.RobotModel.from_urdf(str(self.urdf))
+        except (ValueError, RuntimeError) as e:
+            raise RobotFileError(f"{self.path}: {e}") from None
+
+
+# Keys a robot file of each kind must give.
+_REQUIRED = {
+    "arm": {"chain": ("root", "tip")},
+    "quadruped": {},
+    "aerial": {},
+}

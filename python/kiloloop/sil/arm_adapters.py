@@ -1,0 +1,124 @@
+"""Adapters for the arm family: each maps the plant's measurement (and the scenario's reference)
+onto one compiled controller's Input and its Output back onto the motors. Glue only: no control
+logic, no robot constants. Shared by the arm scenarios (one SIL shape: plant / rig / adapter /
+scenario).
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from . import arm_scene
+from .log import SignalLog
+from .loop import Measurement
+
+
+class JointTrackingTick:
+    """Maps a measurement and the trajectory sample onto the compiled controller (glue only)."""
+
+    def __init__(self, controller, trajectory):
+        self.controller, self.trajectory = controller, trajectory
+        self.input, self.output = controller.make_input(), controller.make_output()
+
+    def __call__(self, m: Measurement, log: SignalLog) -> np.ndarray:
+        inp = self.input
+        inp.t, inp.stamp = m.t, m.stamp
+        inp.q[:], inp.qd[:] = m.q, m.qd
+        self.trajectory.sample_into(m.t, inp.q_ref, inp.qd_ref, inp.qdd_ref)
+        status = self.controller.step(inp, self.output)
+        log.record("q", m.q)
+        log.record("qd", m.qd)
+        log.record("q_ref", inp.q_ref)
+        log.record("tau", self.output.tau)
+        log.record("status", int(status))
+        return self.output.tau.copy()
+
+
+class CartesianTick:
+    """Maps a measurement and the line sample onto the compiled controller (glue only)."""
+
+    def __init__(self, controller, line):
+        self.controller, self.line = controller, line
+        self.input, self.output = controller.make_input(), controller.make_output()
+
+    def __call__(self, m: Measurement, log: SignalLog) -> np.ndarray:
+        inp = self.input
+        inp.t, inp.stamp = m.t, m.stamp
+        inp.q[:], inp.qd[:] = m.q, m.qd
+        self.line.sample_into(m.t, inp)
+        status = self.controller.step(inp, self.output)
+        log.record("q", m.q)
+        log.record("q_ref", self.output.q_ref)
+        log.record("tau", self.output.tau)
+        log.record("pose_ref", inp.pose_ref)
+        log.record("ik_error", self.output.task_error)
+        log.record("status", int(status))
+        return self.output.tau.copy()
+
+
+class SupervisedTick:
+    """Trajectory -> computed torque -> supervisor -> motors (glue only)."""
+
+    def __init__(self, controller, supervisor, trajectory, t_estop):
+        self.c, self.s, self.traj, self.t_estop = controller, supervisor, trajectory, t_estop
+        self.cin, self.cout = controller.make_input(), controller.make_output()
+        self.sin, self.sout = supervisor.make_input(), supervisor.make_output()
+
+    def __call__(self, m: Measurement, log: SignalLog) -> np.ndarray:
+        cin, sin = self.cin, self.sin
+        cin.t, cin.stamp = m.t, m.stamp
+        cin.q[:], cin.qd[:] = m.q, m.qd
+        self.traj.sample_into(m.t, cin.q_ref, cin.qd_ref, cin.qdd_ref)
+        self.c.step(cin, self.cout)
+        sin.t, sin.stamp = m.t, m.stamp
+        sin.q[:], sin.qd[:] = m.q, m.qd
+        sin.tau_command[:] = self.cout.tau
+        sin.estop = m.t >= self.t_estop
+        status = self.s.step(sin, self.sout)
+        log.record("q", m.q)
+        log.record("qd", m.qd)
+        log.record("q_ref", cin.q_ref)
+        log.record("tau", self.sout.tau)
+        log.record("mode", int(self.sout.mode))
+        log.record("status", int(status))
+        log.record("manipulability", self.sout.singularity.manipulability)
+        return self.sout.tau.copy()
+
+
+def _quintic(s):
+    """Rest-to-rest blend on s in [0, 1]: value, first and second derivative w.r.t. s."""
+    s = min(max(s, 0.0), 1.0)
+    return (10 * s**3 - 15 * s**4 + 6 * s**5, 30 * s**2 - 60 * s**3 + 30 * s**4,
+            60 * s - 180 * s**2 + 120 * s**3)
+
+
+class PressTick:
+    """Maps measurement, force sensor and the slide reference onto the controller (glue only)."""
+
+    def __init__(self, controller, plant, tip, p0, R0, settings):
+        self.c, self.plant, self.tip, self.settings = controller, plant, tip, settings
+        self.input, self.output = controller.make_input(), controller.make_output()
+        self.p0 = p0
+        self.input.R_ref = R0
+        self.input.wrench_ref = np.array([0.0, 0.0, -settings["force"], 0.0, 0.0, 0.0])
+
+    def reference(self, t):
+        st = self.settings
+        s, ds, dds = _quintic((t - st["settle"]) / st["slide_time"])
+        T = st["slide_time"]
+        return (self.p0[0] + st["slide"] * s, st["slide"] * ds / T, st["slide"] * dds / T**2)
+
+    def __call__(self, m: Measurement, log: SignalLog) -> np.ndarray:
+        inp = self.input
+        inp.t, inp.stamp = m.t, m.stamp
+        inp.q[:], inp.qd[:] = m.q, m.qd
+        x, xd, xdd = self.reference(m.t)
+        inp.p_ref[:] = [x, self.p0[1], self.p0[2]]
+        inp.twist_ref[0], inp.accel_ref[0] = xd, xdd
+        force = arm_scene.tip_force_world(self.plant, self.tip)  # sampled with q (same stamp)
+        inp.wrench_measured[:3] = force
+        status = self.c.step(inp, self.output)
+        log.record("x_ref", x)
+        log.record("force", force)
+        log.record("tau", self.output.tau)
+        log.record("status", int(status))
+        return self.output.tau.copy()
