@@ -194,19 +194,28 @@ class ArmRig:
                 recorder.close()
 
 
+def joint_config(robot, model, q, delay_ticks: int = 0, config=None):
+    """kl.ComputedTorqueConfig from the robot file: gains (bandwidth), measurement age, friction."""
+    c = config or kl.ComputedTorqueConfig()
+    c.kp, c.kd = arm_defaults.joint_gains(robot, model, "computed_torque", q)
+    age = float(arm_defaults.controller_settings(robot)["max_measurement_age"])
+    c.max_measurement_age = age + delay_ticks * 0.001
+    c.friction = arm_defaults.joint_friction(robot, model)
+    return c
+
+
 def controller(robot, model, law: str, q, *, delay_ticks: int = 0, config=None):
     """A compiled joint controller with gains derived from the robot file (robot/arm.py)."""
     kp, kd = arm_defaults.joint_gains(robot, model, law, q)
     age = float(arm_defaults.controller_settings(robot)["max_measurement_age"])
     if law == "computed_torque":
-        c = config or kl.ComputedTorqueConfig()
-        c.kp, c.kd = kp, kd
-        c.max_measurement_age = age + delay_ticks * 0.001
-        return kl.ComputedTorqueController(model, c)
+        return kl.ComputedTorqueController(model, joint_config(robot, model, q, delay_ticks,
+                                                               config))
     if law == "pd_gravity":
         c = config or kl.JointPdGravityConfig()
         c.kp, c.kd = kp, kd
         c.max_measurement_age = age + delay_ticks * 0.001
+        c.friction = arm_defaults.joint_friction(robot, model)
         return kl.JointPdGravityController(model, c)
     raise ValueError(f"controller: expected 'computed_torque' or 'pd_gravity', got {law!r}")
 
