@@ -98,7 +98,7 @@ class PoseProbe:
         return out
 
     def at(self, q) -> None:
-        self.data.qpos[self.plant._qadr] = q
+        self.data.qpos[self.plant.qpos_addresses] = q
         mujoco.mj_kinematics(self.plant.model, self.data)
         mujoco.mj_comPos(self.plant.model, self.data)
 
@@ -107,7 +107,7 @@ class PoseProbe:
         of the reach [m] so that both halves weigh alike (a chain under 6 joints: its rank)."""
         p = self.plant
         mujoco.mj_jacSite(p.model, self.data, self._jacp, self._jacr, self.site)
-        J = np.vstack([self._jacp[:, p._dadr], self._jacr[:, p._dadr] * (self.reach / 3.0)])
+        J = np.vstack([self._jacp[:, p.dof_addresses], self._jacr[:, p.dof_addresses] * (self.reach / 3.0)])
         sv = np.linalg.svd(J, compute_uv=False)
         return float(sv[min(J.shape) - 1] / sv[0]) if sv[0] > 0 else 0.0
 
