@@ -30,7 +30,13 @@ class CapturedLog : public console_bridge::OutputHandler {
 bool restore_root_inertia(urdf::ModelInterface& model) {
   urdf::LinkSharedPtr root;
   model.getLink(model.getRoot()->name, root);
-  if (!root->inertial || root->inertial->mass <= 0.0) return false;
+  if (!root->inertial) return false;
+  if (root->inertial->mass <= 0.0) {
+    // A massless inertial carries nothing; dropping it spares kdl_parser's root-inertia warning
+    // (printed through a logger we cannot capture).
+    root->inertial.reset();
+    return false;
+  }
   auto base = std::make_shared<urdf::Link>();
   base->name = kVirtualRootName;
   auto joint = std::make_shared<urdf::Joint>();
