@@ -71,7 +71,7 @@ class PoseProbe:
         self.reach = reach(plant)
         self.site = m.site(plant.ee_site).id
         self.base_z = float(plant.data.xanchor[m.joint(plant.joint_names[0]).id][2])
-        moving = set(_moving_bodies(m).tolist()) - self._height_fixed(plant)
+        moving = set(_moving_bodies(m).tolist()) - self.height_fixed_bodies(plant)
         floor = [g for g in range(m.ngeom) if m.geom(g).name == "floor"]
         self.floor = floor[0] if floor else None
         self.geoms = [g for g in range(m.ngeom) if m.geom_bodyid[g] in moving
@@ -80,7 +80,7 @@ class PoseProbe:
         self._fromto = np.zeros(6)
 
     @staticmethod
-    def _height_fixed(plant) -> set:
+    def height_fixed_bodies(plant) -> set:
         """Bodies that only a vertical first joint moves (a UR shoulder): their height never
         changes, so their clearance to the floor is no choice of the pose."""
         m, d = plant.model, plant.data
@@ -328,8 +328,9 @@ def line_target(rig: ArmRig, q0, duration: float) -> tuple[np.ndarray, np.ndarra
 
 
 def link_capsules(robot, model) -> list:
-    """Collision capsules of the chain's links for planning: the robot file's [collision] capsules
-    where it gives them, else capsules bounding the URDF's collision primitives."""
+    """Collision capsules of the chain's links (and of what is folded onto them) for planning: the
+    robot file's [collision] capsules when it gives them, else capsules bounding the URDF's
+    collision primitives and capsules fitted to its collision meshes (kiloloop.meshes)."""
     given = robot.section("collision").get("capsules", {})
     capsules = []
     for link, rows in given.items():
@@ -342,4 +343,8 @@ def link_capsules(robot, model) -> list:
             capsules.append(c)
     if given:
         return capsules
-    return list(kl.capsules_from_urdf(str(robot.urdf), model))
+    from ..meshes import capsules_for_urdf
+
+    # Mesh collisions (every real arm's): one capsule fitted around each mesh's vertices.
+    fitted = capsules_for_urdf(str(robot.urdf), robot.package_dirs)
+    return list(kl.capsules_from_urdf(str(robot.urdf), model, fitted or None))
