@@ -79,31 +79,60 @@ def _make_controller(model, settings):
 SLIDE = 0.05  # of the reach, when the settings give none
 
 
+# Pressing positions tried: the tool at these fractions of the reach from the first joint,
+# horizontally (at the work pose's azimuth) and at the work pose's height above the floor.
+PRESS_RADII = (0.45, 0.55, 0.35, 0.65)
+PRESS_HEIGHTS = (1.0, 0.6, 1.4)  # of the work pose's tool height
+
+
 def press_pose(rig, settings) -> tuple[np.ndarray, float]:
-    """(q0 [rad], slide [m]): a pose near the work pose with the tool's z axis pointing down
-    (IK from the work pose), from which the IK can follow the slide along +x."""
+    """(q0 [rad], slide [m]): a pose with the tool's z axis pointing down, from which the IK can
+    follow the slide along +x: of the candidate tool positions (PRESS_RADII x PRESS_HEIGHTS, the
+    IK seeded from the work pose), the one whose 6 x n Jacobian is best conditioned."""
+    from ..sil.arm_rig import PoseProbe
+
     model = rig.model
     slide = float(settings["slide"]) or SLIDE * reach_of(rig)
     if len(settings["q0"]):
         return np.asarray(settings["q0"], dtype=float), slide
     q_work = work_pose(rig.robot, model, rig.plant)
-    T = kl.Dynamics(model).forward_kinematics(q_work)
+    dyn, ik, probe = kl.Dynamics(model), kl.ArmIk(model), PoseProbe(rig.plant)
+    T = dyn.forward_kinematics(q_work)
     R_world_root = rig.T_world_root()[:3, :3]
     down = R_world_root.T @ np.array([0.0, 0.0, -1.0])   # world -z in the root frame
     x = T[:3, 0] - down * (T[:3, 0] @ down)
     if np.linalg.norm(x) < 1e-6:
         x = np.cross(down, [0.0, 1.0, 0.0])
     x /= np.linalg.norm(x)
-    T_press = T.copy()
-    T_press[:3, :3] = np.column_stack([x, np.cross(down, x), down])
-    q0, status = kl.ArmIk(model).solve(T_press, q_work)
-    if int(status) < 0:
-        raise ValueError(f"{rig.robot.name}: no IK solution with the tool pointing down")
-    if not line_feasible(model, q0, [slide, 0.0, 0.0], [0.0, 0.0, 0.0],
-                         float(settings["slide_time"])):
-        raise ValueError(f"{rig.robot.name}: the IK cannot follow a {slide:.3f} m slide along +x "
-                         f"from the pressing pose")
-    return q0, slide
+    R_down = np.column_stack([x, np.cross(down, x), down])
+    # First joint's anchor in the root frame (= the work pose's FK minus the site's lever).
+    anchor = R_world_root.T @ (probe.plant.data.xanchor[
+        probe.plant.model.joint(probe.plant.joint_names[0]).id] - rig.T_world_root()[:3, 3])
+    horizontal = T[:3, 3] - anchor
+    horizontal -= down * (horizontal @ down)
+    azimuth = horizontal / max(np.linalg.norm(horizontal), 1e-9)
+    height = -(T[:3, 3] - anchor) @ down
+    best, best_score = None, -np.inf
+    for radius in PRESS_RADII:
+        for h in PRESS_HEIGHTS:
+            T_press = np.eye(4)
+            T_press[:3, :3] = R_down
+            T_press[:3, 3] = anchor + azimuth * radius * probe.reach - down * h * height
+            q0, status = ik.solve(T_press, q_work)
+            if int(status) < 0 or not line_feasible(model, q0, [slide, 0.0, 0.0],
+                                                    [0.0, 0.0, 0.0],
+                                                    float(settings["slide_time"]), probe=probe):
+                continue
+            probe.at(q0)
+            if probe.floor_clearance() < 0.02 * probe.reach:
+                continue
+            score = probe.conditioning()
+            if score > best_score:
+                best, best_score = q0, score
+    if best is None:
+        raise ValueError(f"{rig.robot.name}: no tool-down pose from which the IK can follow a "
+                         f"{slide:.3f} m slide along +x")
+    return best, slide
 
 
 def reach_of(rig) -> float:
