@@ -218,7 +218,8 @@ COMMON_DEFAULTS = {
     "law": "quaternion_pd",    # or "geometric_so3"
     "feedforward": True,       # arm reaction feed-forward
     "lag_compensation": False, # rotor-lag lead in the allocation (all thrusts)
-    "reaction_lead": 0.0,      # [s] lead on the fed-forward reaction torque only
+    "reaction_lead": None,     # [s] lead on the fed-forward reaction torque; None: derived
+                               # (the rotor time constant, robot/aerial.py)
     "hold_com": True,          # the position loop holds the vehicle's CoM (not the body origin)
     # The controller compensates the arm's (identified) joint friction (the overlay's values).
     "friction_compensation": True,
@@ -239,7 +240,8 @@ def config_from_settings(settings: dict, robot=None) -> "kl.AerialConfig":
         raise ValueError(f"law: expected one of {sorted(LAWS)}, got {settings['law']!r}")
     config.attitude.law = getattr(kl.AttitudeLaw, LAWS[settings["law"]])
     config.reaction_feedforward = bool(settings["feedforward"])
-    config.reaction_lead = float(settings["reaction_lead"])
+    if settings["reaction_lead"] is not None:
+        config.reaction_lead = float(settings["reaction_lead"])
     config.hold_com = bool(settings["hold_com"])
     gains = config.attitude.gains
     kp, kd, ki = np.array(gains.kp), np.array(gains.kd), np.array(gains.ki)
