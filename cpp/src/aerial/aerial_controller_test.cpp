@@ -306,7 +306,7 @@ TEST(AerialController, HoldsTheWeightAboutTheVehicleCoMForAnyLayout) {
   // Hovering level and at rest, the rotors' wrench about the body CoM must carry the weight and
   // cancel the moment of the weight acting at the vehicle CoM: (c_v - c_b) x m g z.
   const Eigen::Vector3d com(0.03, -0.02, 0.01);
-  for (int joints : {0, 2, 3}) {
+  for (int joints : {0, 2, 3, 6}) {
     for (int rotors : {4, 6, 8}) {
       for (bool ff : {true, false}) {
         AerialController c = make_multirotor(joints, com, rotors, 0.0, ff);
