@@ -13,9 +13,9 @@ error; the rotation vector, largest peak-to-peak over the three axes), averaged 
 take out the IMU noise (whose own peak-to-peak, ~1.5 deg at hover, would otherwise dominate the
 feed-forward case). The raw figure and its reduction, the body's tilt from level and the
 excursion of the vehicle's centre of mass are reported beside it.
-Measured (bench/RESULTS.md), period 4 s: CoM held in both runs, 0.62 deg vs 3.44 deg (82 %); body
-origin held in both (`--set hold_com=false`), 1.97 deg vs 4.39 deg (55 %: the arm's lateral push
-moves the body and the position loop tilts it back).
+Measured (bench/RESULTS.md), period 4 s, reaction lead derived (30 ms): CoM held in both runs,
+0.26 deg vs 3.41 deg (92 %); body origin held in both (`--set hold_com=false`), 1.75 deg vs
+4.39 deg (60 %: the arm's lateral push moves the body and the position loop tilts it back).
 """
 from __future__ import annotations
 
