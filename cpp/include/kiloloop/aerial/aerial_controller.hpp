@@ -8,7 +8,7 @@
 //   allocate -> arm_output -> guard_output (a last finite-output check).
 // The model: the arm's chain from the body link to the end effector
 // (RobotModel.from_urdf(path, root=base, tip=ee)), or, for a vehicle without an arm, the whole
-// tree (no chain; every link is rigid body). The body is the root link plus every link rigidly
+// tree (no chain; every link rigid). The body is the root link plus every link rigidly
 // attached to it off the arm; its centre of mass may be anywhere: the attitude dynamics, the rotor
 // geometry and the reaction torque are all taken about it (RotorAllocationConfig::positions are
 // in the base link frame; the controller shifts them). The position loop acts on the base link
