@@ -1,9 +1,12 @@
 // kiloloop_bench_aerial: per-call latency and heap allocations of the aerial manipulator's
-// controller step and its parts, on seeded states around hover with the arm moving.
+// controller step and its parts, on seeded states around hover with the arm moving; the step and
+// the allocation also with 6 and 8 rotors (a ring of radius 0.25 m, alternating spin, on the same
+// body and arm) to show the cost of the rotor count.
 //   kiloloop_bench_aerial <path/to/aerial_manipulator.urdf> [--calls N] [--quick] [--json]
 // Prints median, p99 and max [ns] and allocations per call for each; the SIL real-time factor is
 // measured by the Python side (kiloloop bench).
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
@@ -43,6 +46,19 @@ std::string cpu_model() {
 
 // Times `call(i)` one call at a time; the allocation scope spans the whole run (the sample buffer
 // is sized beforehand, so the bookkeeping itself never allocates).
+// n rotors on a ring of radius 0.25 m, alternating spin, 8 N each.
+kiloloop::RotorAllocationConfig ring(int n) {
+  kiloloop::RotorAllocationConfig c;
+  c.positions.resize(3, n);
+  c.spin.resize(n);
+  for (int i = 0; i < n; ++i) {
+    const double a = 2.0 * 3.14159265358979323846 * (i + 0.5) / n;
+    c.positions.col(i) << 0.25 * std::cos(a), 0.25 * std::sin(a), 0.0;
+    c.spin[i] = i % 2 ? 1.0 : -1.0;
+  }
+  return c;
+}
+
 Row time_calls(const char* name, const std::function<bool(int)>& call, long n) {
   for (long i = 0; i < kWarmUp; ++i) call(static_cast<int>(i % kStates));
   kiloloop::LatencyStats stats(static_cast<std::size_t>(n));
@@ -89,14 +105,21 @@ int main(int argc, char** argv) {
   config.arm_coulomb = Eigen::VectorXd::Constant(1, 0.01);
   AerialConfig lee = config;
   lee.attitude.law = AttitudeLawType::kGeometricSo3;
-  AerialController ctrl, ctrl_lee;
+  AerialConfig hexa = config, octo = config;
+  hexa.rotors = ring(6);
+  octo.rotors = ring(8);
+  AerialController ctrl, ctrl_lee, ctrl6, ctrl8;
   FloatingBaseRne rne;
-  RotorAllocation alloc;
+  RotorAllocation alloc, alloc6, alloc8;
   if (failed(model_from_urdf_file(urdf, "", "ee_link", model.get(), &why)) ||
       failed(AerialController::configure(config, model, &ctrl, &why)) ||
       failed(AerialController::configure(lee, model, &ctrl_lee, &why)) ||
       failed(FloatingBaseRne::configure(model, &rne, &why)) ||
-      failed(RotorAllocation::configure(config.rotors, &alloc, &why))) {
+      failed(AerialController::configure(hexa, model, &ctrl6, &why)) ||
+      failed(AerialController::configure(octo, model, &ctrl8, &why)) ||
+      failed(RotorAllocation::configure(config.rotors, &alloc, &why)) ||
+      failed(RotorAllocation::configure(hexa.rotors, &alloc6, &why)) ||
+      failed(RotorAllocation::configure(octo.rotors, &alloc8, &why))) {
     std::fprintf(stderr, "kiloloop_bench_aerial: %s\n", why.c_str());
     return 1;
   }
@@ -124,36 +147,44 @@ int main(int argc, char** argv) {
   }
   ee_in = in;
   for (auto& x : ee_in) {
-    x.arm_mode = 1;
+    x.arm_mode = ArmMode::kEndEffector;
     x.ee_position_ref << 0.15 + 0.02 * g(rng), 0.05 + 0.02 * g(rng), 0.72 + 0.02 * g(rng);
   }
-  AerialOutput out = ctrl.make_output();
+  AerialOutput out = ctrl.make_output(), out6 = ctrl6.make_output(), out8 = ctrl8.make_output();
   long tick = 0;
-  auto step = [&](AerialController& c, std::vector<AerialInput>& inputs) {
-    return [&c, &inputs, &out, &tick](int i) {
+  auto step = [&](AerialController& c, std::vector<AerialInput>& inputs, AerialOutput& o) {
+    return [&c, &inputs, &o, &tick](int i) {
       AerialInput& x = inputs[i];
       x.t = x.stamp = 0.001 * static_cast<double>(tick++);
-      return !failed(c.step(x, out));
+      return !failed(c.step(x, o));
     };
   };
   Eigen::VectorXd tau(nq);
   Vector6d W;
   std::vector<Eigen::Vector4d> wrenches(kStates);
   for (auto& w : wrenches) w << 17.7 + g(rng), 0.2 * g(rng), 0.2 * g(rng), 0.05 * g(rng);
-  Eigen::Vector4d thrust;
+  Eigen::VectorXd thrust(4), thrust6(6), thrust8(8);
 
   std::vector<Row> rows;
-  rows.push_back(time_calls("aerial.step (quaternion PD, joints)", step(ctrl, in), n));
-  rows.push_back(time_calls("aerial.step (Lee SO(3), joints)", step(ctrl_lee, in), n));
-  rows.push_back(time_calls("aerial.step (end-effector IK)", step(ctrl, ee_in), n));
+  rows.push_back(time_calls("aerial.step (quaternion PD, joints)", step(ctrl, in, out), n));
+  rows.push_back(time_calls("aerial.step (Lee SO(3), joints)", step(ctrl_lee, in, out), n));
+  rows.push_back(time_calls("aerial.step (end-effector IK)", step(ctrl, ee_in, out), n));
+  rows.push_back(time_calls("aerial.step (6 rotors, joints)", step(ctrl6, in, out6), n));
+  rows.push_back(time_calls("aerial.step (8 rotors, joints)", step(ctrl8, in, out8), n));
   rows.push_back(time_calls("floating_base_rne.compute", [&](int i) {
     BaseMotion b;
     b.omega = in[i].gyro;
     b.specific_force = in[i].accel;
     return ok(rne.compute(in[i].q, in[i].qd, in[i].qdd_ref, b, tau, &W));
   }, n));
-  rows.push_back(time_calls("rotor_allocation.allocate", [&](int i) {
-    return !failed(alloc.allocate(wrenches[i], &thrust));
+  rows.push_back(time_calls("rotor_allocation.allocate (4 rotors)", [&](int i) {
+    return !failed(alloc.allocate(wrenches[i], thrust));
+  }, n));
+  rows.push_back(time_calls("rotor_allocation.allocate (6 rotors)", [&](int i) {
+    return !failed(alloc6.allocate(wrenches[i], thrust6));
+  }, n));
+  rows.push_back(time_calls("rotor_allocation.allocate (8 rotors)", [&](int i) {
+    return !failed(alloc8.allocate(wrenches[i], thrust8));
   }, n));
   for (const Row& r : rows) {
     if (r.failures > 0) {

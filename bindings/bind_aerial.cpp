@@ -10,6 +10,13 @@ void bind_aerial(py::module_& m) {
       .value("QUATERNION_PD", AttitudeLawType::kQuaternionPd)
       .value("GEOMETRIC_SO3", AttitudeLawType::kGeometricSo3);
 
+  py::enum_<FlightMode>(m, "FlightMode", "position loop or attitude reference")
+      .value("POSITION", FlightMode::kPosition)
+      .value("ATTITUDE", FlightMode::kAttitude);
+  py::enum_<ArmMode>(m, "ArmMode", "arm reference: joints or end-effector position")
+      .value("JOINTS", ArmMode::kJoints)
+      .value("END_EFFECTOR", ArmMode::kEndEffector);
+
   py::class_<AttitudeGains>(m, "AttitudeGains")
       .def(py::init<>())
       .def_readwrite("kp", &AttitudeGains::kp, "(3) [1/s^2] roll, pitch, yaw")
@@ -30,16 +37,19 @@ void bind_aerial(py::module_& m) {
       .def_readwrite("max_tilt", &PositionControlConfig::max_tilt, "[rad]");
   py::class_<RotorAllocationConfig>(m, "RotorAllocationConfig")
       .def(py::init<>())
-      .def_readwrite("positions", &RotorAllocationConfig::positions, "(3, 4) [m] body frame")
-      .def_readwrite("spin", &RotorAllocationConfig::spin, "(4) +-1")
-      .def_readwrite("drag_coefficient", &RotorAllocationConfig::drag_coefficient, "[m]")
+      .def_readwrite("positions", &RotorAllocationConfig::positions, "(3, n) [m] base link frame")
+      .def_readwrite("axes", &RotorAllocationConfig::axes, "(3, n) thrust directions; (3, 0): +z")
+      .def_readwrite("spin", &RotorAllocationConfig::spin,
+                     "(n) +1: counter-clockwise about the axis (drag torque along -axis)")
+      .def_readwrite("torque_coefficient", &RotorAllocationConfig::torque_coefficient,
+                     "(1 or n) [m] drag torque / thrust")
       .def_readwrite("thrust_min", &RotorAllocationConfig::thrust_min, "[N]")
-      .def_readwrite("thrust_max", &RotorAllocationConfig::thrust_max, "[N]")
+      .def_readwrite("thrust_max", &RotorAllocationConfig::thrust_max, "(1 or n) [N]")
       .def_readwrite("lag_compensation", &RotorAllocationConfig::lag_compensation)
       .def_readwrite("time_constant", &RotorAllocationConfig::time_constant, "[s]")
       .def_readwrite("dt", &RotorAllocationConfig::dt, "[s]");
 
-  py::class_<RotorAllocation>(m, "RotorAllocation", "body wrench [T, tau] -> 4 rotor thrusts")
+  py::class_<RotorAllocation>(m, "RotorAllocation", "body wrench [T, tau] -> n rotor thrusts")
       .def(py::init([](const std::optional<RotorAllocationConfig>& config) {
              RotorAllocation a;
              std::string why;
@@ -52,12 +62,19 @@ void bind_aerial(py::module_& m) {
       .def(
           "allocate",
           [](RotorAllocation& a, const Array& wrench) {
-            Eigen::Vector4d f, achieved;
-            const Status s = a.allocate(vector_arg(wrench, 4, "wrench"), &f, &achieved);
+            Eigen::VectorXd f = Eigen::VectorXd::Zero(a.n());
+            Eigen::Vector4d achieved;
+            const Status s = a.allocate(vector_arg(wrench, 4, "wrench"), f, &achieved);
             return py::make_tuple(s, f, achieved);
           },
-          py::arg("wrench"), "(status, thrust (4) [N], achieved wrench (4))")
-      .def_property_readonly("mixer", &RotorAllocation::mixer, "(4, 4) wrench = A thrust");
+          py::arg("wrench"), "(status, thrust (n) [N], achieved wrench (4))")
+      .def_property_readonly("n", &RotorAllocation::n)
+      .def_property_readonly("mixer", &RotorAllocation::mixer, "(4, n) [T; tau] = A thrust")
+      .def_property_readonly("effectiveness", &RotorAllocation::effectiveness,
+                             "(6, n) [F; tau] = B thrust")
+      .def_property_readonly("collective_share", &RotorAllocation::collective_share, "(n)")
+      .def_property_readonly("uses_lateral_rows", &RotorAllocation::uses_lateral_rows)
+      .def_property_readonly("max_collective", &RotorAllocation::max_collective, "[N]");
 
   py::class_<FloatingBaseRne>(m, "FloatingBaseRne", "RNE of a serial arm on a moving base")
       .def(py::init([](std::shared_ptr<RobotModel> model) {
@@ -85,7 +102,17 @@ void bind_aerial(py::module_& m) {
           },
           py::arg("q"), py::arg("qd"), py::arg("qdd"), py::arg("v"), py::arg("omega"),
           py::arg("specific_force"), py::arg("alpha"),
-          "base motion in the body frame -> (status, tau (nq) [N m], wrench body->arm (6))");
+          "base motion in the body frame -> (status, tau (nq) [N m], wrench body->arm (6))")
+      .def(
+          "first_moment",
+          [](const FloatingBaseRne& r, const Array& q) {
+            Eigen::Vector3d moment = Eigen::Vector3d::Zero();
+            double mass = 0.0;
+            const Status s = r.first_moment(vector_arg(q, r.nq(), "q"), &moment, &mass);
+            raise_if_failed(s, "FloatingBaseRne.first_moment: bad q");
+            return py::make_tuple(moment, mass);
+          },
+          py::arg("q"), "(sum m_i c_i (3) [kg m] in the body frame, arm mass [kg]) at q");
 
   py::class_<AerialConfig>(m, "AerialConfig")
       .def(py::init<>())
@@ -117,8 +144,8 @@ void bind_aerial(py::module_& m) {
       .def_readwrite("t", &AerialInput::t)
       .def_readwrite("stamp", &AerialInput::stamp)
       .def_readwrite("yaw_ref", &AerialInput::yaw_ref)
-      .def_readwrite("attitude_mode", &AerialInput::attitude_mode)
-      .def_readwrite("arm_mode", &AerialInput::arm_mode, "0 joints, 1 end-effector position");
+      .def_readwrite("flight_mode", &AerialInput::flight_mode)
+      .def_readwrite("arm_mode", &AerialInput::arm_mode);
   vector_field(in, "position", &AerialInput::position, "(3) [m] world");
   vector_field(in, "velocity", &AerialInput::velocity, "(3) [m/s] world");
   vector_field(in, "quat", &AerialInput::quat, "(4) w, x, y, z world <- body");
@@ -142,7 +169,7 @@ void bind_aerial(py::module_& m) {
       .def_readonly("tilt", &AerialOutput::tilt)
       .def_readonly("rotors_saturated", &AerialOutput::rotors_saturated)
       .def_readonly("safe_stop", &AerialOutput::safe_stop);
-  vector_field(out, "thrust", &AerialOutput::thrust, "(4) [N] rotor commands");
+  vector_field(out, "thrust", &AerialOutput::thrust, "(n) [N] rotor commands");
   vector_field(out, "tau", &AerialOutput::tau, "(nq) [N m] arm torques");
   vector_field(out, "wrench", &AerialOutput::wrench, "(4) commanded T [N], tau [N m], body");
   vector_field(out, "wrench_achieved", &AerialOutput::wrench_achieved, "(4)");
@@ -174,7 +201,14 @@ void bind_aerial(py::module_& m) {
       .def_property_readonly("total_mass", &AerialController::total_mass)
       .def_property_readonly("body_inertia", &AerialController::body_inertia)
       .def_property_readonly("rigid_inertia", &AerialController::rigid_inertia)
-      .def_property_readonly("hover_thrust", &AerialController::hover_thrust);
+      .def_property_readonly("hover_thrust", &AerialController::hover_thrust)
+      .def_property_readonly("n_rotors", &AerialController::n_rotors)
+      .def_property_readonly("has_arm", &AerialController::has_arm)
+      .def_property_readonly("body_com", &AerialController::body_com, "(3) [m] base link frame")
+      .def_property_readonly("vehicle_com", &AerialController::vehicle_com,
+                             "(3) [m] with the arm at nominal")
+      .def_property_readonly("allocation", &AerialController::allocation,
+                             py::return_value_policy::reference_internal);
 }
 
 }  // namespace kiloloop::py_glue

@@ -7,7 +7,10 @@ def test_aerial_bench_quick_reports_zero_allocations():
     report = run_aerial_bench(quick=True)
     names = {r["name"] for r in report["core"]["results"]}
     assert any(n.startswith("aerial.step") for n in names)
-    assert "floating_base_rne.compute" in names and "rotor_allocation.allocate" in names
+    assert "floating_base_rne.compute" in names
+    for n in (4, 6, 8):
+        assert f"rotor_allocation.allocate ({n} rotors)" in names
+    assert {"aerial.step (6 rotors, joints)", "aerial.step (8 rotors, joints)"} <= names
     for r in report["core"]["results"]:
         assert r["allocations_per_call"] == 0, r["name"]
         assert 0 < r["median_ns"] <= r["p99_ns"] <= r["max_ns"]

@@ -7,19 +7,19 @@ import pytest
 import kiloloop as kl
 from kiloloop.sil.aerial_crosscheck import inverse_dynamics_crosscheck
 from kiloloop.sil.aerial_plant import AerialPlant
-from kiloloop.sil.aerial_rig import aerial_paths
+from kiloloop.sil.aerial_rig import aerial_paths, load_robot
 
 
 @pytest.fixture(scope="module")
 def setup():
-    urdf, overlay = aerial_paths()
-    plant = AerialPlant(urdf, overlay, damping=0.0, frictionloss=0.0, motor_lag=False)
+    urdf, _ = aerial_paths()
+    plant = AerialPlant.from_robot(load_robot(), damping=0.0, frictionloss=0.0, motor_lag=False)
     model = kl.RobotModel.from_urdf(str(urdf), tip="ee_link")
     return plant, model, kl.FloatingBaseRne(model)
 
 
 def test_arm_torques_and_reaction_wrench_match_mj_inverse():
-    r = inverse_dynamics_crosscheck(*aerial_paths(), n=200)
+    r = inverse_dynamics_crosscheck(n=200)
     print(r)
     assert r["total_mass_mujoco"] == pytest.approx(r["total_mass_kdl"], abs=1e-12)
     assert r["max_tau_error_Nm"] < 1e-6

@@ -4,13 +4,12 @@ import numpy as np
 import pytest
 
 from kiloloop.sil.aerial_plant import AerialPlant
-from kiloloop.sil.aerial_rig import aerial_paths
+from kiloloop.sil.aerial_rig import load_robot
 
 
 @pytest.fixture
 def plant():
-    urdf, overlay = aerial_paths()
-    return AerialPlant(urdf, overlay, damping=0.0, frictionloss=0.0)
+    return AerialPlant.from_robot(load_robot(), damping=0.0, frictionloss=0.0)
 
 
 def test_masses_and_start_state(plant):
@@ -40,9 +39,9 @@ def test_rotor_lag_is_first_order_with_the_overlay_time_constant(plant):
 
 def test_drag_torque_and_efficiency(plant):
     f0 = 1.8 * 9.81 / 4
-    urdf, overlay = aerial_paths()
-    fast = AerialPlant(urdf, overlay, damping=0.0, frictionloss=0.0, motor_lag=False)
-    # Spin +1 rotors (0 and 3) up, -1 rotors down: pure yaw torque 4 * 0.016 * 0.5 N m.
+    fast = AerialPlant.from_robot(load_robot(), damping=0.0, frictionloss=0.0, motor_lag=False)
+    # Clockwise rotors (spin -1: 0 and 3) up, counter-clockwise down: their drag yaws the body
+    # counter-clockwise, a pure yaw torque 4 * 0.016 * 0.5 N m.
     fast.set_thrust(f0 + np.array([0.5, -0.5, -0.5, 0.5]))
     fast.step(1)
     _, omega = fast.base_velocity()

@@ -6,6 +6,7 @@
 #include <Eigen/Cholesky>
 #include <kdl/frames.hpp>
 #include <kdl/rigidbodyinertia.hpp>
+#include <kdl/tree.hpp>
 
 namespace kiloloop {
 
@@ -21,6 +22,29 @@ Eigen::Matrix3d eig(const KDL::RotationalInertia& I) {
 }
 
 bool finite(double x) { return std::isfinite(x); }
+
+KDL::Vector kdl(const Eigen::Vector3d& v) { return KDL::Vector(v.x(), v.y(), v.z()); }
+
+// [m], [m/s], [rad/s]...: a finite value this large in a state or a reference can only be a
+// fault (and would overflow the loops' products to Inf).
+constexpr double kSane = 1e6;
+template <typename V>
+bool sane(const V& v) {
+  return v.allFinite() && v.cwiseAbs().maxCoeff() <= kSane;
+}
+bool sane(double x) { return std::isfinite(x) && std::abs(x) <= kSane; }
+
+// The rigid composite of the tree below `element` (its own segment included), in the frame of
+// `T` (the element's tip frame expressed in the base frame); the subtree starting at the
+// segment named `skip` (the arm) is left out. Joints off the arm are taken at 0.
+void add_subtree(const KDL::SegmentMap::const_iterator& element, const KDL::Frame& T,
+                 const std::string& skip, KDL::RigidBodyInertia* total) {
+  *total = *total + T * element->second.segment.getInertia();
+  for (const auto& child : GetTreeElementChildren(element->second)) {
+    if (child->first == skip) continue;
+    add_subtree(child, T * child->second.segment.pose(0.0), skip, total);
+  }
+}
 
 // Expands a 1-or-nq gain vector to nq.
 Eigen::VectorXd per_joint(const Eigen::VectorXd& g, int nq) {
@@ -72,11 +96,12 @@ Status validate(const AerialConfig& c, int nq, std::string* why) {
 
 Status AerialController::configure(const AerialConfig& config, RobotModelPtr model,
                                    AerialController* out, std::string* why) {
-  if (!model || !model->has_chain()) {
-    if (why) *why = "AerialController: the model needs the arm chain (load it with tip=<ee link>)";
+  if (!model) {
+    if (why) *why = "AerialController: no model";
     return Status::kModelError;
   }
-  const int nq = model->nq();
+  const bool has_arm = model->has_chain() && model->chain().getNrOfSegments() > 0;
+  const int nq = has_arm ? model->nq() : 0;
   Status s = validate(config, nq, why);
   if (failed(s)) return s;
   AerialController c;
@@ -85,49 +110,57 @@ Status AerialController::configure(const AerialConfig& config, RobotModelPtr mod
   c.cfg_.position.dt = c.cfg_.attitude.dt = c.cfg_.rotors.dt = config.dt;
   c.model_ = model;
   c.nq_ = nq;
+  c.has_arm_ = has_arm;
   c.gravity_norm_ = config.gravity.norm();
-  s = Dynamics::configure(model, config.gravity, &c.kin_, why);
-  if (failed(s)) return s;
-  s = FloatingBaseRne::configure(model, &c.rne_, why);
-  if (failed(s)) return s;
+  if (has_arm) {
+    if (nq > 0) {
+      s = Dynamics::configure(model, config.gravity, &c.kin_, why);
+      if (failed(s)) return s;
+    }
+    s = FloatingBaseRne::configure(model, &c.rne_, why);
+    if (failed(s)) return s;
+  }
 
-  // The body: the chain root's own segment in the tree (the URDF loader restores its inertia).
+  // The body: the base link and every link rigidly attached to it off the arm, in the base frame.
   const auto& segments = model->tree().getSegments();
-  const auto body = segments.find(model->root_name());
-  if (body == segments.end()) {
-    if (why) *why = "AerialController: no segment '" + model->root_name() + "' in the tree";
+  const std::string base =
+      has_arm || !model->root_name().empty() ? model->root_name()
+                                             : model->tree().getRootSegment()->first;
+  const auto root = segments.find(base);
+  if (root == segments.end()) {
+    if (why) *why = "AerialController: no segment '" + base + "' in the tree";
     return Status::kModelError;
   }
-  const KDL::RigidBodyInertia& Ib = body->second.segment.getInertia();
+  const std::string arm_first = has_arm ? model->chain().getSegment(0).getName() : std::string();
+  KDL::RigidBodyInertia Ib = KDL::RigidBodyInertia::Zero();
+  add_subtree(root, KDL::Frame::Identity(), arm_first, &Ib);
   c.m_body_ = Ib.getMass();
   if (!(c.m_body_ > 0)) {
-    if (why) *why = "AerialController: the body link '" + model->root_name() + "' has no mass";
+    if (why) *why = "AerialController: the body link '" + base + "' has no mass";
     return Status::kModelError;
   }
-  const Eigen::Vector3d com = eig(Ib.getCOG());
-  if (com.norm() > 1e-6) {
-    if (why) *why = "AerialController: the body link's CoM must be at its origin (the body "
-                    "dynamics and the rotor geometry are written about it)";
-    return Status::kModelError;
-  }
-  c.J_body_ = eig(Ib.getRotationalInertia());
-  // The rigid vehicle: body plus the arm frozen at its nominal pose, about the body origin.
-  const KDL::Chain& chain = model->chain();
+  c.c_body_ = eig(Ib.getCOG());
+  c.J_body_ = eig(Ib.RefPoint(kdl(c.c_body_)).getRotationalInertia());
+  // The rigid vehicle: body plus the arm frozen at its nominal pose, about the body CoM.
   KDL::RigidBodyInertia total = Ib;
-  KDL::Frame T = KDL::Frame::Identity();
-  int j = 0;
-  for (unsigned i = 0; i < chain.getNrOfSegments(); ++i) {
-    const KDL::Segment& seg = chain.getSegment(i);
-    double qi = 0.0;
-    if (seg.getJoint().getType() != KDL::Joint::Fixed) {
-      qi = config.arm_q_nominal.size() ? config.arm_q_nominal[j] : 0.0;
-      ++j;
+  if (has_arm) {
+    const KDL::Chain& chain = model->chain();
+    KDL::Frame T = KDL::Frame::Identity();
+    int j = 0;
+    for (unsigned i = 0; i < chain.getNrOfSegments(); ++i) {
+      const KDL::Segment& seg = chain.getSegment(i);
+      double qi = 0.0;
+      if (seg.getJoint().getType() != KDL::Joint::Fixed) {
+        qi = config.arm_q_nominal.size() ? config.arm_q_nominal[j] : 0.0;
+        ++j;
+      }
+      T = T * seg.pose(qi);
+      total = total + T * seg.getInertia();
     }
-    T = T * seg.pose(qi);
-    total = total + T * seg.getInertia();
   }
   c.m_total_ = total.getMass();
-  c.J_rigid_ = eig(total.getRotationalInertia());
+  c.c_vehicle_ = eig(total.getCOG());
+  c.J_rigid_ = eig(total.RefPoint(kdl(c.c_body_)).getRotationalInertia());
 
   s = PositionController::configure(c.cfg_.position, &c.position_, why);
   if (failed(s)) return s;
@@ -135,20 +168,31 @@ Status AerialController::configure(const AerialConfig& config, RobotModelPtr mod
   if (failed(s)) return s;
   s = AttitudeController::configure(c.cfg_.attitude, c.J_rigid_, &c.attitude_rigid_, why);
   if (failed(s)) return s;
+  // The rotor geometry about the body's centre of mass.
+  c.cfg_.rotors.positions = config.rotors.positions.colwise() - c.c_body_;
   s = RotorAllocation::configure(c.cfg_.rotors, &c.allocation_, why);
   if (failed(s)) return s;
-  if (4.0 * c.cfg_.rotors.thrust_max <= c.m_total_ * c.gravity_norm_) {
-    if (why) *why = "AerialController: the rotors cannot lift the vehicle (4 thrust_max <= m g)";
+  if (c.allocation_.max_collective() <= c.m_total_ * c.gravity_norm_) {
+    if (why)
+      *why = "AerialController: the rotors cannot lift the vehicle (largest collective thrust " +
+             std::to_string(c.allocation_.max_collective()) + " N <= m g = " +
+             std::to_string(c.m_total_ * c.gravity_norm_) + " N)";
     return Status::kInvalidConfig;
   }
+  // Failsafe: the collective share of the failsafe fraction of the hover thrust, per rotor.
+  c.failsafe_thrust_ = c.allocation_.collective_share() *
+                       (config.failsafe_thrust_fraction * c.m_total_ * c.gravity_norm_);
+  for (int i = 0; i < c.allocation_.n(); ++i)
+    c.failsafe_thrust_[i] = std::clamp(c.failsafe_thrust_[i], c.cfg_.rotors.thrust_min,
+                                       c.allocation_.thrust_max()[i]);
 
   c.kp_ = per_joint(config.arm_kp, nq);
   c.kd_ = per_joint(config.arm_kd, nq);
   c.viscous_ = per_joint(config.arm_viscous, nq);
   c.coulomb_ = per_joint(config.arm_coulomb, nq);
-  c.lower_ = model->lower();
-  c.upper_ = model->upper();
-  c.effort_ = model->effort_limit();
+  c.lower_ = has_arm ? model->lower() : Eigen::VectorXd();
+  c.upper_ = has_arm ? model->upper() : Eigen::VectorXd();
+  c.effort_ = has_arm ? model->effort_limit() : Eigen::VectorXd();
   for (auto* v : {&c.q_ref_, &c.qd_ref_, &c.qdd_ref_, &c.q_ik_, &c.qdd_cmd_, &c.tau_})
     *v = Eigen::VectorXd::Zero(nq);
   c.J_ = Eigen::MatrixXd::Zero(6, nq);
@@ -159,7 +203,7 @@ Status AerialController::configure(const AerialConfig& config, RobotModelPtr mod
   c.ee_ref_.setZero();
   c.ee_vel_ref_.setZero();
   c.reaction_z_ = (c.m_total_ - c.m_body_) * c.gravity_norm_;  // the arm hanging at rest
-  {
+  if (has_arm) {
     Eigen::Vector3d moment;
     double m_arm = 0.0;
     const Eigen::VectorXd q_nom =
@@ -181,6 +225,7 @@ AerialInput AerialController::make_input() const {
 
 AerialOutput AerialController::make_output() const {
   AerialOutput out;
+  out.thrust = Eigen::VectorXd::Zero(allocation_.n());
   out.tau = Eigen::VectorXd::Zero(nq_);
   out.q_ref = Eigen::VectorXd::Zero(nq_);
   return out;
@@ -200,14 +245,21 @@ void AerialController::reset() noexcept {
   safe_stop_ = false;
 }
 
+// Any output vector, of any size: rotors at the failsafe (or off), arm torques zero.
 void AerialController::failsafe(AerialOutput& out, bool motors_off) noexcept {
-  const auto& r = cfg_.rotors;
-  const double f = motors_off ? r.thrust_min
-                              : cfg_.failsafe_thrust_fraction * hover_thrust() / 4.0;
-  out.thrust.setConstant(std::clamp(f, r.thrust_min, r.thrust_max));
-  if (out.tau.size() == nq_) out.tau.setZero();
+  const bool sized = out.thrust.size() == allocation_.n();
+  if (sized && !motors_off) {
+    out.thrust = failsafe_thrust_;
+  } else {
+    out.thrust.setConstant(cfg_.rotors.thrust_min);
+  }
+  out.tau.setZero();
   out.wrench.setZero();
-  out.wrench_achieved = allocation_.mixer() * out.thrust;
+  if (sized) {
+    out.wrench_achieved.noalias() = allocation_.mixer() * out.thrust;
+  } else {
+    out.wrench_achieved.setZero();
+  }
   out.reaction.setZero();
   out.acceleration_des.setZero();
   out.rotors_saturated = false;
@@ -215,35 +267,99 @@ void AerialController::failsafe(AerialOutput& out, bool motors_off) noexcept {
 }
 
 Status AerialController::step(const AerialInput& in, AerialOutput& out) noexcept {
-  const Status s = run(in, out);
+  Status s = check_measurements(in, out);
+  if (!failed(s)) {
+    tick_.status = Status::kOk;
+    load_references(in);
+    arm_reference(in, out);
+    position_loop(in, out);
+    thrust_and_attitude(in, out);
+    s = arm_dynamics(in, out);
+    if (!failed(s)) {
+      allocate(out);
+      arm_output(in, out);
+      s = worst(tick_.status, guard_output(out));
+    }
+  }
   out.status = s;
   out.safe_stop = safe_stop_;
   return s;
 }
 
-Status AerialController::load_references(const AerialInput& in) noexcept {
-  const bool arm_joint = in.arm_mode == 0;
+Status AerialController::check_measurements(const AerialInput& in, AerialOutput& out) noexcept {
+  if (!configured_) {
+    out.thrust.setZero();
+    out.tau.setZero();
+    return Status::kNotConfigured;
+  }
+  if (out.thrust.size() != allocation_.n() || out.tau.size() != nq_ || out.q_ref.size() != nq_) {
+    failsafe(out, false);
+    return Status::kBadSize;
+  }
+  if (safe_stop_) {
+    failsafe(out, true);
+    return Status::kSafeStop;
+  }
+  // Tilt first, from any usable orientation: a vehicle past the limit stops its motors even when
+  // another signal is bad at the same time (a NaN gyro must not keep it flying upside down).
+  const double quat_norm = in.quat.norm();
+  const bool quat_usable = in.quat.allFinite() && quat_norm >= 0.5 && quat_norm <= 1.5;
+  if (quat_usable) {
+    const double c = (in.quat[0] * in.quat[0] - in.quat[1] * in.quat[1] - in.quat[2] * in.quat[2] +
+                      in.quat[3] * in.quat[3]) / (quat_norm * quat_norm);  // R(2, 2)
+    out.tilt = std::acos(std::clamp(c, -1.0, 1.0));
+    if (out.tilt > cfg_.max_tilt) {
+      safe_stop_ = true;
+      failsafe(out, true);
+      return Status::kSafeStop;
+    }
+  }
+  if (in.q.size() != nq_ || in.qd.size() != nq_) {
+    failsafe(out, false);
+    return Status::kBadSize;
+  }
+  if (!quat_usable || !sane(in.position) || !sane(in.velocity) || !sane(in.gyro) ||
+      !sane(in.accel) || !in.q.allFinite() || !in.qd.allFinite() ||
+      (nq_ > 0 && (in.q.cwiseAbs().maxCoeff() > kSane || in.qd.cwiseAbs().maxCoeff() > kSane)) ||
+      !sane(in.t) || !sane(in.stamp)) {
+    failsafe(out, false);
+    return Status::kNonFiniteMeasurement;
+  }
+  const double age = in.t - in.stamp;
+  if (age > cfg_.max_measurement_age || age < -1e-9) {
+    failsafe(out, false);
+    return Status::kStaleMeasurement;
+  }
+  tick_.q = Eigen::Quaterniond(in.quat[0], in.quat[1], in.quat[2], in.quat[3]).normalized();
+  tick_.R = tick_.q.toRotationMatrix();
+  return Status::kOk;
+}
+
+Status AerialController::accept_references(const AerialInput& in) noexcept {
+  const bool arm_joint = in.arm_mode == ArmMode::kJoints;
   if (arm_joint && (in.q_ref.size() != nq_ || in.qd_ref.size() != nq_ || in.qdd_ref.size() != nq_))
     return Status::kBadSize;
-  bool good = in.position_ref.allFinite() && in.velocity_ref.allFinite() &&
-              in.acceleration_ref.allFinite() && finite(in.yaw_ref) &&
-              (in.arm_mode == 0 || in.arm_mode == 1);
-  if (in.attitude_mode) good = good && in.quat_ref.allFinite() && in.quat_ref.norm() > 0.5;
+  const bool attitude = in.flight_mode == FlightMode::kAttitude;
+  bool good = sane(in.position_ref) && sane(in.velocity_ref) && sane(in.acceleration_ref) &&
+              sane(in.yaw_ref) && (arm_joint || in.arm_mode == ArmMode::kEndEffector) &&
+              (attitude || in.flight_mode == FlightMode::kPosition);
+  if (attitude) good = good && in.quat_ref.allFinite() && in.quat_ref.norm() > 0.5 &&
+                       in.quat_ref.norm() < 2.0;
   if (arm_joint) {
-    good = good && in.q_ref.allFinite() && in.qd_ref.allFinite() && in.qdd_ref.allFinite();
+    good = good && (nq_ == 0 || (sane(in.q_ref) && sane(in.qd_ref) && sane(in.qdd_ref)));
   } else {
-    good = good && in.ee_position_ref.allFinite() && in.ee_velocity_ref.allFinite();
+    good = good && has_arm_ && nq_ > 0 && sane(in.ee_position_ref) && sane(in.ee_velocity_ref);
   }
   if (!good) return Status::kNonFiniteReference;
   p_ref_ = in.position_ref;
   v_ref_ = in.velocity_ref;
   a_ref_ = in.acceleration_ref;
   yaw_ref_ = in.yaw_ref;
-  attitude_mode_ = in.attitude_mode;
-  if (attitude_mode_) quat_ref_ = Eigen::Quaterniond(in.quat_ref[0], in.quat_ref[1],
-                                                     in.quat_ref[2], in.quat_ref[3]).normalized();
+  flight_mode_ = in.flight_mode;
+  if (attitude) quat_ref_ = Eigen::Quaterniond(in.quat_ref[0], in.quat_ref[1], in.quat_ref[2],
+                                               in.quat_ref[3]).normalized();
   if (arm_joint) {
-    if (arm_mode_ != 0) have_ik_ = false;
+    if (arm_mode_ != ArmMode::kJoints) have_ik_ = false;
     q_ref_ = in.q_ref;
     qd_ref_ = in.qd_ref;
     qdd_ref_ = in.qdd_ref;
@@ -254,6 +370,25 @@ Status AerialController::load_references(const AerialInput& in) noexcept {
   arm_mode_ = in.arm_mode;
   have_ref_ = true;
   return Status::kOk;
+}
+
+void AerialController::load_references(const AerialInput& in) noexcept {
+  const Status references = accept_references(in);
+  if (references == Status::kOk) return;
+  tick_.status = worst(tick_.status, references);
+  if (have_ref_) return;
+  // Nothing valid yet: hold where we are, arm where it is.
+  p_ref_ = in.position;
+  v_ref_.setZero();
+  a_ref_.setZero();
+  const Eigen::Vector3d x = tick_.R.col(0);
+  yaw_ref_ = std::atan2(x.y(), x.x());
+  flight_mode_ = FlightMode::kPosition;
+  arm_mode_ = ArmMode::kJoints;
+  q_ref_ = in.q.cwiseMax(lower_).cwiseMin(upper_);
+  qd_ref_.setZero();
+  qdd_ref_.setZero();
+  have_ref_ = true;
 }
 
 // End-effector mode: damped least-squares IK on the position, in the body frame, warm-started;
@@ -294,91 +429,25 @@ Status AerialController::arm_target(const Eigen::Matrix3d& R, const AerialInput&
   return e.norm() > 10.0 * cfg_.ik_damping ? Status::kUnreachable : Status::kOk;
 }
 
-Status AerialController::run(const AerialInput& in, AerialOutput& out) noexcept {
-  if (!configured_) {
-    out.thrust.setZero();
-    if (out.tau.size()) out.tau.setZero();
-    return Status::kNotConfigured;
-  }
-  if (out.tau.size() != nq_ || out.q_ref.size() != nq_) {
-    failsafe(out, false);
-    return Status::kBadSize;
-  }
-  if (safe_stop_) {
-    failsafe(out, true);
-    return Status::kSafeStop;
-  }
-  // Tilt first, from any usable orientation: a vehicle past the limit stops its motors even when
-  // another signal is bad at the same time (a NaN gyro must not keep it flying upside down).
-  const double quat_norm = in.quat.norm();
-  if (in.quat.allFinite() && quat_norm >= 0.5 && quat_norm <= 1.5) {
-    const double c = (in.quat[0] * in.quat[0] - in.quat[1] * in.quat[1] - in.quat[2] * in.quat[2] +
-                      in.quat[3] * in.quat[3]) / (quat_norm * quat_norm);  // R(2, 2)
-    out.tilt = std::acos(std::clamp(c, -1.0, 1.0));
-    if (out.tilt > cfg_.max_tilt) {
-      safe_stop_ = true;
-      failsafe(out, true);
-      return Status::kSafeStop;
-    }
-  }
-  if (in.q.size() != nq_ || in.qd.size() != nq_) {
-    failsafe(out, false);
-    return Status::kBadSize;
-  }
-  if (!in.position.allFinite() || !in.velocity.allFinite() || !in.quat.allFinite() ||
-      !in.gyro.allFinite() || !in.accel.allFinite() || !in.q.allFinite() ||
-      !in.qd.allFinite() || !finite(in.t) || !finite(in.stamp) || in.quat.norm() < 0.5 ||
-      in.quat.norm() > 1.5) {
-    failsafe(out, false);
-    return Status::kNonFiniteMeasurement;
-  }
-  const double age = in.t - in.stamp;
-  if (age > cfg_.max_measurement_age || age < -1e-9) {
-    failsafe(out, false);
-    return Status::kStaleMeasurement;
-  }
-  const Eigen::Quaterniond q =
-      Eigen::Quaterniond(in.quat[0], in.quat[1], in.quat[2], in.quat[3]).normalized();
-  const Eigen::Matrix3d R = q.toRotationMatrix();  // (the tilt was checked above)
-
-  Status status = Status::kOk;
-  const Status references = load_references(in);
-  if (references != Status::kOk) {
-    status = references;
-    if (!have_ref_) {
-      // Nothing valid yet: hold where we are, arm where it is.
-      p_ref_ = in.position;
-      v_ref_.setZero();
-      a_ref_.setZero();
-      const Eigen::Vector3d x = R.col(0);
-      yaw_ref_ = std::atan2(x.y(), x.x());
-      attitude_mode_ = false;
-      arm_mode_ = 0;
-      q_ref_ = in.q.cwiseMax(lower_).cwiseMin(upper_);
-      qd_ref_.setZero();
-      qdd_ref_.setZero();
-      have_ref_ = true;
-    }
-  }
-
-  // Arm target.
-  if (arm_mode_ == 1) {
-    status = worst(status, arm_target(R, in));
-  } else {
+void AerialController::arm_reference(const AerialInput& in, AerialOutput& out) noexcept {
+  if (arm_mode_ == ArmMode::kEndEffector) {
+    tick_.status = worst(tick_.status, arm_target(tick_.R, in));
+  } else if (nq_ > 0) {
     const bool outside = (q_ref_.array() < lower_.array()).any() ||
                          (q_ref_.array() > upper_.array()).any();
     if (outside) {
       q_ref_ = q_ref_.cwiseMax(lower_).cwiseMin(upper_);
-      status = worst(status, Status::kReferenceClamped);
+      tick_.status = worst(tick_.status, Status::kReferenceClamped);
     }
   }
   out.q_ref = q_ref_;
+}
 
-  const bool ff = cfg_.reaction_feedforward;
-
-  // Position loop, on the body origin or (hold_com) on the centre of mass the arm moves.
+// Position loop, on the body origin or (hold_com) on the centre of mass the arm moves.
+void AerialController::position_loop(const AerialInput& in, AerialOutput& out) noexcept {
+  const Eigen::Matrix3d& R = tick_.R;
   Eigen::Vector3d p_ref = p_ref_, v_ref = v_ref_;
-  if (cfg_.hold_com) {
+  if (cfg_.hold_com && has_arm_) {
     Eigen::Vector3d moment;
     double m_arm = 0.0;
     rne_.first_moment(q_ref_, &moment, &m_arm);
@@ -390,55 +459,70 @@ Status AerialController::run(const AerialInput& in, AerialOutput& out) noexcept 
     p_ref -= R * shift;
     v_ref -= R * (rate + in.gyro.cross(shift));  // d/dt (R shift), gyro = body angular rate
   }
-  Eigen::Vector3d a_des;
-  position_.step(in.position, in.velocity, p_ref, v_ref, a_ref_, saturated_prev_, &a_des);
-  out.acceleration_des = a_des;
+  position_.step(in.position, in.velocity, p_ref, v_ref, a_ref_, saturated_prev_, &tick_.a_des);
+  out.acceleration_des = tick_.a_des;
+}
 
-  // Thrust vector (world) and desired attitude. Only the vertical part of the arm's reaction
-  // force joins it (last tick's: the pass below needs the attitude law's output first): the
-  // horizontal part could only be produced by tilting, which is slower than the arm and is the
-  // very attitude disturbance the feed-forward is meant to remove (measured in aerial-arm-sweep:
-  // feeding the whole vector tilted the body more than no feed-forward at all).
-  Eigen::Vector3d F = m_total_ * (a_des - cfg_.gravity);
+// Thrust vector (world) and desired attitude, then the attitude law. Only the vertical part of
+// the arm's reaction force joins the thrust (last tick's: the pass below needs the attitude
+// law's output first): the horizontal part could only be produced by tilting, which is slower
+// than the arm and is the very attitude disturbance the feed-forward is meant to remove
+// (measured in aerial-arm-sweep: feeding the whole vector tilted the body more than no
+// feed-forward at all).
+void AerialController::thrust_and_attitude(const AerialInput& in, AerialOutput& out) noexcept {
+  const bool ff = cfg_.reaction_feedforward;
+  const Eigen::Matrix3d& R = tick_.R;
+  Eigen::Vector3d F = m_total_ * (tick_.a_des - cfg_.gravity);
   if (ff) {
-    F = m_body_ * (a_des - cfg_.gravity);
+    F = m_body_ * (tick_.a_des - cfg_.gravity);
     F.z() += reaction_z_;
   }
   AttitudeTarget target;
-  double collective = 0.0;
-  if (attitude_mode_) {
+  if (flight_mode_ == FlightMode::kAttitude) {
     target.q = quat_ref_;
     // Hold the altitude whatever the tilt: the vertical part of the thrust is what counts.
-    collective = std::max(F.z(), 0.0) / std::max(R(2, 2), 0.5);
+    tick_.collective = std::max(F.z(), 0.0) / std::max(R(2, 2), 0.5);
   } else {
     const Eigen::Vector3d f = position_.attitude_from_thrust(F, yaw_ref_, &target.q);
-    collective = std::max(f.dot(R.col(2)), 0.0);
+    tick_.collective = std::max(f.dot(R.col(2)), 0.0);
   }
+  tick_.q_des = target.q;
   out.quat_des << target.q.w(), target.q.x(), target.q.y(), target.q.z();
 
   // Attitude law on the body alone (feed-forward on) or on the rigid vehicle (off); alpha is the
   // angular acceleration it asks of the body.
   AttitudeController& att = ff ? attitude_body_ : attitude_rigid_;
-  Eigen::Vector3d tau_body;
-  att.step(q, in.gyro, target, saturated_prev_, &tau_body);
+  att.step(tick_.q, in.gyro, target, saturated_prev_, &tick_.tau_body);
   out.attitude_error = att.error();
   const Eigen::Matrix3d& J = att.inertia();
-  const Eigen::Vector3d alpha = J.ldlt().solve(tau_body - in.gyro.cross(J * in.gyro));
+  tick_.alpha = J.ldlt().solve(tick_.tau_body - in.gyro.cross(J * in.gyro));
+  if (!ff) {
+    // The rigid vehicle's centre of mass is not the body's when the arm (at nominal) sits off
+    // its axis: the collective, through the body CoM, would twist the vehicle about its own CoM
+    // by (c_vehicle - c_body) x T z; the rotors add that moment (zero for an arm hanging on the
+    // thrust axis).
+    tick_.tau_body += (c_vehicle_ - c_body_).cross(Eigen::Vector3d(0.0, 0.0, tick_.collective));
+  }
+}
 
-  // One RNE pass of the arm on the body moving as measured (rates, accelerometer) and as just
-  // commanded (alpha): the arm's computed torque, and the wrench the body must apply to the arm
-  // for it, which the rotors add (coupled inverse dynamics: body and arm torques for the same
-  // accelerations).
+// One RNE pass of the arm on the body moving as measured (rates, accelerometer) and as just
+// commanded (alpha): the arm's computed torque, and the wrench the body must apply to the arm
+// for it, which the rotors add (coupled inverse dynamics: body and arm torques for the same
+// accelerations).
+Status AerialController::arm_dynamics(const AerialInput& in, AerialOutput& out) noexcept {
+  tick_.W.setZero();
+  out.reaction.setZero();
+  if (!has_arm_) return Status::kOk;
+  const Eigen::Matrix3d& R = tick_.R;
   qdd_cmd_ = qdd_ref_ + kd_.cwiseProduct(qd_ref_ - in.qd) + kp_.cwiseProduct(q_ref_ - in.q);
   BaseMotion base;
   base.v = R.transpose() * in.velocity;
   base.omega = in.gyro;
-  base.specific_force = cfg_.measured_acceleration ? in.accel
-                                                    : Eigen::Vector3d(R.transpose() *
-                                                                      (a_des - cfg_.gravity));
-  base.alpha = alpha;
-  Vector6d W = Vector6d::Zero();
-  if (failed(rne_.compute(in.q, in.qd, qdd_cmd_, base, tau_, &W))) {
+  base.specific_force = cfg_.measured_acceleration
+                            ? in.accel
+                            : Eigen::Vector3d(R.transpose() * (tick_.a_des - cfg_.gravity));
+  base.alpha = tick_.alpha;
+  if (failed(rne_.compute(in.q, in.qd, qdd_cmd_, base, tau_, &tick_.W))) {
     failsafe(out, false);
     return Status::kSolverFailed;
   }
@@ -451,38 +535,54 @@ Status AerialController::run(const AerialInput& in, AerialOutput& out) noexcept 
     tau_[i] += viscous_[i] * in.qd[i] +
                coulomb_[i] * std::tanh(v_c / cfg_.arm_friction_velocity);
   }
-  out.reaction = W;
-  reaction_z_ = (R * W.head<3>()).z();
-  if (ff) {
-    const Eigen::Vector3d w_tau = W.tail<3>();
+  out.reaction = tick_.W;
+  reaction_z_ = (R * tick_.W.head<3>()).z();
+  if (cfg_.reaction_feedforward) {
+    // About the body CoM: the body applies W at the base origin, c_body away.
+    const Eigen::Vector3d w_tau = tick_.W.tail<3>() - c_body_.cross(tick_.W.head<3>());
     if (have_reaction_) {
       const double a = cfg_.dt / (cfg_.dt + cfg_.reaction_lead_filter);
       reaction_tau_rate_ += a * ((w_tau - reaction_tau_prev_) / cfg_.dt - reaction_tau_rate_);
     }
     reaction_tau_prev_ = w_tau;
     have_reaction_ = true;
-    tau_body += w_tau + cfg_.reaction_lead * reaction_tau_rate_;
+    tick_.tau_body += w_tau + cfg_.reaction_lead * reaction_tau_rate_;
   }
+  return Status::kOk;
+}
 
-  Eigen::Vector4d wrench;
-  wrench << collective, tau_body;
-  out.wrench = wrench;
-  const Status alloc = allocation_.allocate(wrench, &out.thrust, &out.wrench_achieved);
+void AerialController::allocate(AerialOutput& out) noexcept {
+  tick_.wrench << tick_.collective, tick_.tau_body;
+  out.wrench = tick_.wrench;
+  const Status alloc = allocation_.allocate(tick_.wrench, out.thrust, &out.wrench_achieved);
   saturated_prev_ = alloc == Status::kSaturated;
   out.rotors_saturated = saturated_prev_;
-  status = worst(status, alloc);
+  tick_.status = worst(tick_.status, alloc);
+}
 
-  // Arm torques within the effort limits.
+// Arm torques within the effort limits; the end effector where the state puts it.
+void AerialController::arm_output(const AerialInput& in, AerialOutput& out) noexcept {
   bool clipped = false;
   for (int i = 0; i < nq_; ++i) {
     const double t = std::clamp(tau_[i], -effort_[i], effort_[i]);
     clipped = clipped || t != tau_[i];
     out.tau[i] = t;
   }
-  if (clipped) status = worst(status, Status::kSaturated);
-  kin_.forward_kinematics(in.q, T_);
-  out.ee_position = in.position + R * T_.block<3, 1>(0, 3);
-  return status;
+  if (clipped) tick_.status = worst(tick_.status, Status::kSaturated);
+  if (nq_ > 0) {
+    kin_.forward_kinematics(in.q, T_);
+    out.ee_position = in.position + tick_.R * T_.block<3, 1>(0, 3);
+  } else {
+    out.ee_position = in.position;
+  }
+}
+
+// The contract's last line: whatever happened above, the output is finite (NaN arm torques were
+// once possible from overflowing references); otherwise the failsafe.
+Status AerialController::guard_output(AerialOutput& out) noexcept {
+  if (out.thrust.allFinite() && out.tau.allFinite() && out.wrench.allFinite()) return Status::kOk;
+  failsafe(out, false);
+  return Status::kSolverFailed;
 }
 
 }  // namespace kiloloop

@@ -1,7 +1,9 @@
 // The composed aerial controller: hover equilibrium, what the reaction feed-forward adds, the
 // safety policy (tilt, NaN/Inf, stale, sizes), determinism and zero allocations per step.
 #include <cmath>
+#include <cstdio>
 #include <cstring>
+#include <random>
 
 #include <gtest/gtest.h>
 
@@ -105,7 +107,7 @@ TEST(AerialController, TiltBeyondLimitStopsMotorsAndLatches) {
   in.quat << std::cos(a / 2), std::sin(a / 2), 0.0, 0.0;
   EXPECT_EQ(c.step(in, out), Status::kSafeStop);
   EXPECT_TRUE(out.safe_stop);
-  EXPECT_EQ(out.thrust, Eigen::Vector4d::Zero());
+  EXPECT_EQ(out.thrust, Eigen::VectorXd::Zero(4));
   in.quat << 1, 0, 0, 0;
   EXPECT_EQ(c.step(in, out), Status::kSafeStop);  // latched
   c.reset();
@@ -174,7 +176,7 @@ TEST(AerialController, TiltBeyondTheLimitStopsTheMotorsEvenWithAnotherBadSignal)
 TEST(AerialController, EndEffectorModeReachesATargetBelow) {
   AerialController c = make();
   AerialInput in = hover_input(c);
-  in.arm_mode = 1;
+  in.arm_mode = ArmMode::kEndEffector;
   in.ee_position_ref << 0.15, 0.05, 0.70;  // body at z = 1: 0.30 m below, ahead, left
   AerialOutput out = c.make_output();
   for (int k = 0; k < 20; ++k) EXPECT_GE(static_cast<int>(c.step(in, out)), 0);
@@ -216,9 +218,9 @@ TEST(AerialController, StepIsAllocationFreeInEveryMode) {
       AerialController c = make(config);
       AerialInput in = hover_input(c), nan_in = in, ee_in = in, att_in = in;
       nan_in.gyro.x() = kNaN;
-      ee_in.arm_mode = 1;
+      ee_in.arm_mode = ArmMode::kEndEffector;
       ee_in.ee_position_ref << 0.1, 0.0, 0.65;
-      att_in.attitude_mode = true;
+      att_in.flight_mode = FlightMode::kAttitude;
       att_in.quat_ref << std::cos(0.087), std::sin(0.087), 0.0, 0.0;
       AerialOutput out = c.make_output();
       c.step(in, out);
@@ -279,10 +281,124 @@ TEST(AerialController, RejectsBadConfigWithAReason) {
             Status::kInvalidConfig);
   EXPECT_NE(why.find("arm_kp"), std::string::npos);
   config = AerialConfig{};
-  config.rotors.thrust_max = 4.0;  // 16 N < 17.7 N weight
+  config.rotors.thrust_max = Eigen::VectorXd::Constant(1, 4.0);  // 16 N < 17.7 N weight
   EXPECT_EQ(AerialController::configure(config, testing::load_aerial(), &c, &why),
             Status::kInvalidConfig);
   EXPECT_NE(why.find("lift"), std::string::npos);
+}
+
+// --- any multirotor: n rotors, body CoM off its origin, arm of 0..n joints ----------------------
+
+AerialController make_multirotor(int joints, const Eigen::Vector3d& com, int rotors,
+                                 double tilt = 0.0, bool ff = true) {
+  AerialConfig config;
+  config.rotors = testing::ring_rotors(rotors, 0.3, tilt);
+  config.reaction_feedforward = ff;
+  AerialController c;
+  std::string why;
+  EXPECT_EQ(AerialController::configure(config, testing::load_multirotor(joints, com), &c, &why),
+            Status::kOk)
+      << why;
+  return c;
+}
+
+TEST(AerialController, HoldsTheWeightAboutTheVehicleCoMForAnyLayout) {
+  // Hovering level and at rest, the rotors' wrench about the body CoM must carry the weight and
+  // cancel the moment of the weight acting at the vehicle CoM: (c_v - c_b) x m g z.
+  const Eigen::Vector3d com(0.03, -0.02, 0.01);
+  for (int joints : {0, 2, 3, 6}) {
+    for (int rotors : {4, 6, 8}) {
+      for (bool ff : {true, false}) {
+        AerialController c = make_multirotor(joints, com, rotors, 0.0, ff);
+        EXPECT_EQ(c.has_arm(), joints > 0);
+        EXPECT_EQ(c.nq(), joints);
+        EXPECT_LT((c.body_com() - com).norm(), 1e-12);
+        const double m = 1.2 + 0.1 * joints + (joints ? 0.02 : 0.0);
+        EXPECT_NEAR(c.total_mass(), m, 1e-12);
+        AerialInput in = hover_input(c);
+        AerialOutput out = c.make_output();
+        ASSERT_EQ(out.thrust.size(), rotors);
+        ASSERT_EQ(c.step(in, out), Status::kOk);
+        const Eigen::Vector3d need =
+            (c.vehicle_com() - c.body_com()).cross(Eigen::Vector3d(0, 0, m * 9.81));
+        EXPECT_NEAR(out.wrench_achieved[0], m * 9.81, 1e-9) << joints << " " << rotors;
+        EXPECT_LT((out.wrench_achieved.tail<3>() - need).norm(), 1e-9)
+            << joints << " arm joints, " << rotors << " rotors, ff " << ff << ": "
+            << out.wrench_achieved.tail<3>().transpose() << " vs " << need.transpose();
+        EXPECT_TRUE(out.tau.allFinite());
+      }
+    }
+  }
+}
+
+TEST(AerialController, TiltedHexarotorKeepsTheLateralForceAtZero) {
+  AerialController c = make_multirotor(2, Eigen::Vector3d(0.0, 0.0, 0.02), 6, 0.35);
+  EXPECT_TRUE(c.allocation().uses_lateral_rows());
+  AerialInput in = hover_input(c);
+  in.gyro << 0.2, -0.1, 0.3;
+  in.position_ref.x() += 0.2;
+  AerialOutput out = c.make_output();
+  EXPECT_GE(static_cast<int>(c.step(in, out)), 0);
+  EXPECT_LT((c.allocation().effectiveness().topRows<2>() * out.thrust).norm(), 1e-9);
+}
+
+TEST(AerialController, ArmTorquesAreNeverNaN) {
+  // Issue 12's fuzzing: NaN arm torques with BAD_SIZE or NON_FINITE_REFERENCE. Outputs start
+  // full of NaN; references are NaN, Inf, 1e308, wrong sizes; the state is fine.
+  AerialController c = make_multirotor(2, Eigen::Vector3d(0.03, 0.0, 0.0), 6);
+  const double bad[] = {kNaN, INFINITY, -INFINITY, 1e308, -1e308, 4.9e-324};
+  std::mt19937 rng(12);
+  std::printf("seed 12\n");
+  for (int k = 0; k < 2000; ++k) {
+    AerialInput in = hover_input(c);
+    in.t = in.stamp = 0.001 * k;
+    AerialOutput out = c.make_output();
+    out.thrust.setConstant(kNaN);
+    out.tau.setConstant(kNaN);
+    const double x = bad[rng() % 6];
+    switch (rng() % 8) {
+      case 0: in.q_ref[rng() % 2] = x; break;
+      case 1: in.qd_ref[rng() % 2] = x; break;
+      case 2: in.qdd_ref[rng() % 2] = x; break;
+      case 3: in.position_ref[rng() % 3] = x; break;
+      case 4: in.acceleration_ref[rng() % 3] = x; break;
+      case 5: in.q_ref.resize(1); break;
+      case 6: out.tau.resize(3); out.tau.setConstant(kNaN); break;
+      default: in.q[rng() % 2] = x; break;
+    }
+    const Status s = c.step(in, out);
+    EXPECT_TRUE(out.tau.allFinite()) << k << " status " << to_string(s);
+    EXPECT_TRUE(out.thrust.allFinite()) << k;
+    if (out.thrust.size() == 6) {
+      EXPECT_TRUE((out.thrust.array() <= 8.0).all());
+    }
+    if (out.tau.size() == 2) {
+      EXPECT_TRUE((out.tau.cwiseAbs().array() <= 2.0).all());
+    }
+  }
+}
+
+TEST(AerialController, StepIsAllocationFreeForEveryRotorCount) {
+  for (int rotors : {4, 6, 8}) {
+    for (int joints : {0, 2}) {
+      AerialController c = make_multirotor(joints, Eigen::Vector3d(0.02, 0.0, 0.0), rotors,
+                                           rotors == 6 ? 0.35 : 0.0);
+      AerialInput in = hover_input(c), att = in;
+      att.flight_mode = FlightMode::kAttitude;
+      att.quat_ref << std::cos(0.1), std::sin(0.1), 0.0, 0.0;
+      AerialOutput out = c.make_output();
+      c.step(in, out);
+      testing::AllocationScope scope;
+      for (int k = 0; k < 3000; ++k) {
+        AerialInput& x = k % 2 ? att : in;
+        x.t = x.stamp = 0.001 * k;
+        if (joints) x.q_ref[k % 2] = 1e-3 * (k % 13);
+        x.position_ref.x() = 1e-3 * (k % 29);
+        c.step(x, out);
+      }
+      EXPECT_EQ(scope.count(), 0u) << rotors << " rotors, " << joints << " joints";
+    }
+  }
 }
 
 }  // namespace

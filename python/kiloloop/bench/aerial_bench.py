@@ -30,10 +30,9 @@ def sil_aerial(quick: bool) -> dict:
 
 def run_aerial_bench(quick: bool) -> dict:
     from ..sil.aerial_crosscheck import inverse_dynamics_crosscheck
-    from ..sil.aerial_rig import aerial_paths
 
     return {"core": core_aerial(quick), "sil": sil_aerial(quick),
-            "crosscheck": inverse_dynamics_crosscheck(*aerial_paths(), n=50 if quick else 200)}
+            "crosscheck": inverse_dynamics_crosscheck(n=50 if quick else 200)}
 
 
 def print_aerial_bench(report: dict) -> None:

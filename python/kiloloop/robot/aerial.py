@@ -1,11 +1,231 @@
-"""What an aerial robot file does not say, derived from its URDF and rotors (robot-file issue 11
-extends this: hover thrust, gains from the composite inertia and the rotor bandwidth...)."""
+"""What an aerial robot file does not say, derived from its URDF and its rotors (never tuned for one
+vehicle).
+
+The file gives the geometry: `[vehicle] base` (and `ee` when it carries an arm) and one `[[rotors]]`
+table per rotor (position, axis, spin, thrust_max, torque_coefficient, time_constant). From them and
+the URDF's masses:
+- hover thrust and thrust/weight: the rotors' pseudo-inverse allocation about the body CoM;
+- attitude gains: bandwidth 0.6 / tau_m (the slowest rotor's time constant, capped at 40 rad/s),
+  critically damped (yaw at half the bandwidth): the same phase margin through the rotor lag for
+  any vehicle (tau_m = 30 ms gives 20 rad/s: kp 400, kd 40);
+- position gains: a fifth of the attitude bandwidth horizontally, a quarter vertically, critically
+  damped, integral w^3 / 16 (so the loops stay separated by the same ratio);
+- arm gains: the attitude bandwidth (the arm's motion is what the attitude loop has to absorb);
+- reaction lead: the rotor time constant (the fed-forward reaction torque is led by tau_m to cancel
+  the rotors' first-order lag to first order; measured in aerial-arm-sweep, CoM held: the
+  feed-forward's reduction of the attitude error went from 53/74/82 % to 91/92/92 % at 2/3/4 s);
+- per-rotor efficiency for the plant ([sim.rotors] efficiency), 1 by default.
+`[controller]` may set any of these explicitly (`attitude_bandwidth`, `position_bandwidth`,
+`arm_bandwidth`, `arm_kp`, `arm_kd`, ...; see CONTROLLER_KEYS).
+"""
 from __future__ import annotations
 
+import math
 
-def summary(robot, model) -> list[str]:
+import numpy as np
+
+# Rotor table keys: None = required.
+ROTOR_KEYS = {"position": None, "axis": [0.0, 0.0, 1.0], "spin": None, "thrust_max": None,
+              "torque_coefficient": None, "time_constant": 0.0, "thrust_min": 0.0}
+# [s] rotor time constant assumed for the gains when no rotor gives one (10-inch props).
+DEFAULT_TIME_CONSTANT = 0.03
+MAX_ATTITUDE_BANDWIDTH = 40.0  # [rad/s]: beyond, the 1 kHz loop's delay and IMU noise dominate
+
+# [controller] keys: bandwidths [rad/s] that the gains come from, and kl.AerialConfig fields.
+CONTROLLER_KEYS = {
+    "attitude_bandwidth": None, "position_bandwidth": None, "arm_bandwidth": None,
+    "arm_kp": None, "arm_kd": None, "arm_q_nominal": None, "reaction_feedforward": None,
+    "hold_com": None, "reaction_lead": None, "measured_acceleration": None, "max_tilt": None,
+    "max_measurement_age": None, "failsafe_thrust_fraction": None, "ik_damping": None,
+    "ik_iterations": None, "tilt_limit": None, "lag_compensation": None,
+}
+
+
+def _err(robot, msg):
+    from .robot_file import RobotFileError
+
+    return RobotFileError(f"{robot.path}: {msg}")
+
+
+def rotors(robot) -> list[dict]:
+    """The checked [[rotors]] tables with their defaults: position (3,) [m], axis (3,) unit,
+    spin +-1, thrust_max [N], torque_coefficient [m], time_constant [s], thrust_min [N]."""
+    tables = robot.data.get("rotors")
+    if not isinstance(tables, list) or len(tables) < 4:
+        raise _err(robot, "rotors: expected at least 4 [[rotors]] tables "
+                          f"(got {0 if not isinstance(tables, list) else len(tables)})")
+    out = []
+    for i, t in enumerate(tables):
+        if not isinstance(t, dict):
+            raise _err(robot, f"rotors[{i}]: expected a table")
+        for key in t:
+            if key not in ROTOR_KEYS:
+                raise _err(robot, f"unknown key 'rotors[{i}].{key}'")
+        r = {}
+        for key, default in ROTOR_KEYS.items():
+            if key not in t and default is None:
+                raise _err(robot, f"missing key 'rotors[{i}].{key}'")
+            r[key] = t.get(key, default)
+        for key in ("position", "axis"):
+            v = np.asarray(r[key], dtype=float)
+            if v.shape != (3,) or not np.all(np.isfinite(v)):
+                raise _err(robot, f"rotors[{i}].{key}: expected 3 finite numbers")
+            r[key] = v
+        if np.linalg.norm(r["axis"]) < 1e-9:
+            raise _err(robot, f"rotors[{i}].axis: must not be zero")
+        r["axis"] = r["axis"] / np.linalg.norm(r["axis"])
+        if r["spin"] not in (1, -1):
+            raise _err(robot, f"rotors[{i}].spin: expected 1 (counter-clockwise about the axis) "
+                              f"or -1, got {r['spin']!r}")
+        for key in ("thrust_max", "torque_coefficient", "time_constant", "thrust_min"):
+            v = float(r[key])
+            if not math.isfinite(v) or v < 0:
+                raise _err(robot, f"rotors[{i}].{key}: expected a finite number >= 0")
+            r[key] = v
+        if r["thrust_max"] <= r["thrust_min"]:
+            raise _err(robot, f"rotors[{i}]: thrust_max must exceed thrust_min")
+        out.append(r)
+    if len({r["thrust_min"] for r in out}) > 1:
+        raise _err(robot, "rotors: thrust_min must be the same for every rotor")
+    return out
+
+
+def time_constant(robot) -> float:
+    """[s] the slowest rotor's lag (DEFAULT_TIME_CONSTANT when no rotor gives one)."""
+    tau = max(r["time_constant"] for r in rotors(robot))
+    return tau if tau > 0 else DEFAULT_TIME_CONSTANT
+
+
+def controller_settings(robot) -> dict:
+    c = robot.section("controller")
+    for key in c:
+        if key not in CONTROLLER_KEYS:
+            raise _err(robot, f"unknown key 'controller.{key}'; known: "
+                              f"{', '.join(sorted(CONTROLLER_KEYS))}")
+    return c
+
+
+def bandwidths(robot) -> dict:
+    """[rad/s] attitude, position (horizontal), arm: derived unless [controller] sets them."""
+    c = controller_settings(robot)
+    att = float(c.get("attitude_bandwidth") or min(0.6 / time_constant(robot),
+                                                   MAX_ATTITUDE_BANDWIDTH))
+    pos = float(c.get("position_bandwidth") or att / 5.0)
+    arm = float(c.get("arm_bandwidth") or att)
+    return {"attitude": att, "position": pos, "arm": arm}
+
+
+def model(robot):
+    """The controller's model: the arm's chain base -> ee, or the whole tree (no arm)."""
+    import kiloloop as kl
+
+    from .robot_file import RobotFileError
+
+    v = robot.section("vehicle")
+    try:
+        if v.get("ee"):
+            return kl.RobotModel.from_urdf(str(robot.urdf), root=v.get("base") or None,
+                                           tip=v["ee"])
+        return kl.RobotModel.from_urdf(str(robot.urdf))
+    except (ValueError, RuntimeError) as e:
+        raise RobotFileError(f"{robot.path}: {e}") from None
+
+
+def rotor_config(robot, lag_compensation: bool = False):
+    """kl.RotorAllocationConfig from the [[rotors]] tables (base link frame)."""
+    import kiloloop as kl
+
+    rs = rotors(robot)
+    c = kl.RotorAllocationConfig()
+    c.positions = np.array([r["position"] for r in rs]).T.copy()
+    c.axes = np.array([r["axis"] for r in rs]).T.copy()
+    c.spin = np.array([float(r["spin"]) for r in rs])
+    c.torque_coefficient = np.array([r["torque_coefficient"] for r in rs])
+    c.thrust_max = np.array([r["thrust_max"] for r in rs])
+    c.thrust_min = rs[0]["thrust_min"]
+    c.time_constant = time_constant(robot)
+    c.lag_compensation = bool(lag_compensation)
+    return c
+
+
+def config(robot, config=None):
+    """kl.AerialConfig with the rotors and the derived gains (explicit [controller] keys win)."""
+    import kiloloop as kl
+
+    cfg = kl.AerialConfig() if config is None else config
+    c = controller_settings(robot)
+    bw = bandwidths(robot)
+    cfg.rotors = rotor_config(robot, bool(c.get("lag_compensation", False)))
+    w = bw["attitude"]
+    gains = cfg.attitude.gains
+    gains.kp = np.array([w * w, w * w, (w / 2) ** 2])
+    gains.kd = np.array([2 * w, 2 * w, w])
+    cfg.attitude.gains = gains
+    p = bw["position"]
+    pz = 1.25 * p
+    pos = cfg.position
+    pos.kp = np.array([p * p, p * p, pz * pz])
+    pos.kd = np.array([2 * p, 2 * p, 2 * pz])
+    pos.ki = np.array([p ** 3, p ** 3, pz ** 3]) / 16.0
+    cfg.position = pos
+    a = bw["arm"]
+    cfg.arm_kp = np.atleast_1d(np.asarray(c.get("arm_kp", a * a), dtype=float))
+    cfg.arm_kd = np.atleast_1d(np.asarray(c.get("arm_kd", 2 * a), dtype=float))
+    for key in ("reaction_feedforward", "hold_com", "measured_acceleration"):
+        if key in c:
+            setattr(cfg, key, bool(c[key]))
+    cfg.reaction_lead = time_constant(robot)
+    for key in ("reaction_lead", "max_tilt", "max_measurement_age", "failsafe_thrust_fraction",
+                "ik_damping"):
+        if key in c:
+            setattr(cfg, key, float(c[key]))
+    if "ik_iterations" in c:
+        cfg.ik_iterations = int(c["ik_iterations"])
+    if "arm_q_nominal" in c:
+        cfg.arm_q_nominal = np.asarray(c["arm_q_nominal"], dtype=float)
+    if "tilt_limit" in c:
+        pos = cfg.position
+        pos.max_tilt = float(c["tilt_limit"])
+        cfg.position = pos
+    return cfg
+
+
+def summary(robot, model_) -> list[str]:
+    """Lines for `kiloloop robot check`: rotors, allocation, hover, derived gains, the plant."""
+    import kiloloop as kl
+
     from ..sil.aerial_plant import AerialPlant
 
-    plant = AerialPlant(robot.urdf, robot.sim)
-    return [f"  plant: {plant.model.nbody - 1} bodies, {plant.nq} arm joints, "
-            f"{plant.n_rotors} rotors"]
+    cfg = config(robot)
+    ctrl = kl.AerialController(model(robot), cfg)
+    alloc = ctrl.allocation
+    plant = AerialPlant.from_robot(robot)
+    rank = np.linalg.matrix_rank(alloc.effectiveness)
+    hover = ctrl.hover_thrust
+    bw = bandwidths(robot)
+    given = set(controller_settings(robot))
+    src = lambda k: "given" if k in given else "derived"  # noqa: E731
+    return [
+        "  derived:",
+        f"    rotors                     {alloc.n}; allocation rank {rank} of 6 "
+        f"({'lateral force rows held at zero' if alloc.uses_lateral_rows else 'T, tau rows'})",
+        f"    mass [kg]                  {ctrl.total_mass:.4g} (body {ctrl.body_mass:.4g}); "
+        f"body CoM {_fmt(ctrl.body_com)} m; vehicle CoM {_fmt(ctrl.vehicle_com)} m",
+        f"    hover thrust [N]           {hover:.4g} total; collective share per rotor "
+        f"{_fmt(np.asarray(alloc.collective_share) * hover)}; thrust/weight "
+        f"{alloc.max_collective / hover:.3g}",
+        f"    rotor time constant [s]    {time_constant(robot):.4g} (reaction lead "
+        f"{cfg.reaction_lead:.4g} s, {src('reaction_lead')})",
+        f"    attitude bandwidth [rad/s] {bw['attitude']:.4g} ({src('attitude_bandwidth')}): "
+        f"kp {_fmt(cfg.attitude.gains.kp)}, kd {_fmt(cfg.attitude.gains.kd)}",
+        f"    position bandwidth [rad/s] {bw['position']:.4g} ({src('position_bandwidth')}): "
+        f"kp {_fmt(cfg.position.kp)}, kd {_fmt(cfg.position.kd)}, ki {_fmt(cfg.position.ki)}",
+        f"    arm                        {ctrl.nq} joints" + (
+            f", kp {_fmt(cfg.arm_kp)}, kd {_fmt(cfg.arm_kd)}" if ctrl.nq else " (no arm)"),
+        f"  plant: {plant.model.nbody - 1} bodies, {plant.nq} arm joints, "
+        f"{plant.n_rotors} rotors; mass {plant.total_mass:.4g} kg",
+    ] + [f"    note: {n}" for n in plant.notes]
+
+
+def _fmt(x) -> str:
+    return "[" + ", ".join(f"{v:.4g}" for v in np.atleast_1d(np.asarray(x, dtype=float))) + "]"

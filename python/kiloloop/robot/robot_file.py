@@ -184,7 +184,8 @@ class Robot:
     # --- the compiled model ----------------------------------------------------------------------
     def model(self):
         """kl.RobotModel of what the controller drives: the arm's root->tip chain (off-chain
-        joints locked, their mass folded in); the whole tree for floating-base robots."""
+        joints locked, their mass folded in); an aerial robot's arm chain (or its whole tree
+        without an arm); the whole tree for other floating-base robots."""
         from .. import _core
 
         if self.kind == "arm":
@@ -197,6 +198,10 @@ class Robot:
                 return _core.RobotModel.from_urdf(str(self.urdf), chain["root"], chain["tip"])
             except (ValueError, RuntimeError) as e:
                 raise RobotFileError(f"{self.path}: {e}") from None
+        if self.kind == "aerial":
+            from .aerial import model as aerial_model
+
+            return aerial_model(self)  # the arm's chain base -> ee, or the whole tree (no arm)
         try:
             return _core.RobotModel.from_urdf(str(self.urdf))
         except (ValueError, RuntimeError) as e:

@@ -33,6 +33,8 @@ _MODULES = {
     "aerial-arm-sweep": "aerial_arm_sweep",
     "aerial-reach": "aerial_reach",
     "aerial-rotor-fault": "aerial_rotor_fault",
+    "aerial-wind": "aerial_wind",
+    "aerial-push": "aerial_push",
 }
 
 

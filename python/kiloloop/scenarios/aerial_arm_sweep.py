@@ -1,5 +1,8 @@
-"""aerial-arm-sweep: hover while the arm's shoulder sweeps through +-1.5 rad (most of its range),
-the same run with the reaction feed-forward on and off. Reports the attitude error peak-to-peak
+"""aerial-arm-sweep: hover while the arm's main joint sweeps through most of its range, the same
+run with the reaction feed-forward on and off. Any arm (derive()): the swept joint is the one that
+moves the arm's centre of mass the most sideways from the start pose (the aerial manipulator's
+shoulder), the amplitude 1.5 rad or 90 % of the room its limits leave, whichever is smaller; the
+next joint (if any) counter-swings by elbow_ratio. Reports the attitude error peak-to-peak
 for both and the reduction the feed-forward brings (goal >= 60 %).
 
 Both runs differ only in the reaction feed-forward: everything else, the position loop's target
@@ -10,9 +13,9 @@ error; the rotation vector, largest peak-to-peak over the three axes), averaged 
 take out the IMU noise (whose own peak-to-peak, ~1.5 deg at hover, would otherwise dominate the
 feed-forward case). The raw figure and its reduction, the body's tilt from level and the
 excursion of the vehicle's centre of mass are reported beside it.
-Measured (bench/RESULTS.md), period 4 s: CoM held in both runs, 0.62 deg vs 3.44 deg (82 %); body
-origin held in both (`--set hold_com=false`), 1.97 deg vs 4.39 deg (55 %: the arm's lateral push
-moves the body and the position loop tilts it back).
+Measured (bench/RESULTS.md), period 4 s, reaction lead derived (30 ms): CoM held in both runs,
+0.26 deg vs 3.41 deg (92 %); body origin held in both (`--set hold_com=false`), 1.75 deg vs
+4.39 deg (60 %: the arm's lateral push moves the body and the position loop tilts it back).
 """
 from __future__ import annotations
 
@@ -27,33 +30,70 @@ from . import ScenarioResult, evaluate
 NAME = "aerial-arm-sweep"
 DESCRIPTION = "hover while the arm sweeps; attitude error p-p with vs without reaction FF"
 DURATION = 5.0
-DEFAULTS = dict(COMMON_DEFAULTS, amplitude=1.5, elbow_ratio=0.0, period=4.0, start=0.5, cycles=1)
+DEFAULTS = dict(COMMON_DEFAULTS, amplitude=1.5, elbow_ratio=0.0, period=4.0, start=0.5, cycles=1,
+                sweep_joint=1)
+MAX_AMPLITUDE = 1.5  # [rad]
+LIMIT_SHARE = 0.9    # of the room between the start pose and the nearer limit
+
+
+def derive(robot) -> dict:
+    """The swept joint and its amplitude, from the arm's chain and limits (see the docstring)."""
+    import kiloloop as kl
+
+    from ..robot import aerial as aerial_robot
+
+    model = aerial_robot.model(robot)
+    if not robot.section("vehicle").get("ee") or model.nq == 0:
+        return {"sweep_joint": -1, "amplitude": 0.0}
+    # The plant's start pose, chain order ([sim.joints] q0, else zero).
+    q0 = robot.sim.get("joints", {}).get("q0")
+    q = np.zeros(model.nq) if q0 is None else np.asarray(q0, dtype=float)
+    rne = kl.FloatingBaseRne(model)
+    best, best_j = -1.0, 0
+    for j in range(model.nq):
+        dq = np.zeros(model.nq)
+        dq[j] = 0.1
+        moved = np.asarray(rne.first_moment(q + dq)[0]) - np.asarray(rne.first_moment(q)[0])
+        if np.linalg.norm(moved[:2]) > best + 1e-12:
+            best, best_j = float(np.linalg.norm(moved[:2])), j
+    lo, up = np.asarray(model.lower, float)[best_j], np.asarray(model.upper, float)[best_j]
+    room = min(q[best_j] - lo, up - q[best_j])
+    return {"sweep_joint": best_j,
+            "amplitude": float(min(MAX_AMPLITUDE, LIMIT_SHARE * room))}
 CRITERIA = {"attitude_ptp_reduction": (">=", 0.60), "diverged_ff": ("<", 0.5),
             "diverged_no_ff": ("<", 0.5)}
 SMOOTH = 0.05  # [s] moving average before the peak-to-peak
 
 
-def sweep_trajectory(settings, nq: int) -> "kl.QuinticTrajectory":
-    """Shoulder +-amplitude, elbow -+elbow_ratio * amplitude, quintic between the extremes every
-    half period, starting and ending at rest hanging down."""
+def sweep_trajectory(settings, nq: int, q0=None) -> "kl.QuinticTrajectory":
+    """Swept joint q0 +-amplitude, the next one -+elbow_ratio * amplitude, quintic between the
+    extremes every half period, starting and ending at rest at q0."""
     a, half = settings["amplitude"], settings["period"] / 2
+    j = int(settings["sweep_joint"])
+    if not 0 <= j < nq:
+        raise ValueError(f"sweep_joint: expected 0..{nq - 1} (the arm has {nq} joints), got {j}")
+    q0 = np.zeros(nq) if q0 is None else np.asarray(q0, float)
     n = 2 * int(settings["cycles"])
-    points = [np.zeros(nq)]
+    points = [q0.copy()]
     for k in range(n):
         sign = 1.0 if k % 2 == 0 else -1.0
-        p = np.zeros(nq)
-        p[1], p[2] = sign * a, -sign * a * settings["elbow_ratio"]
+        p = q0.copy()
+        p[j] += sign * a
+        if j + 1 < nq:
+            p[j + 1] -= sign * a * settings["elbow_ratio"]
         points.append(p)
-    points.append(np.zeros(nq))
+    points.append(q0.copy())
     times = settings["start"] + half * np.concatenate([[0.0], 0.5 + np.arange(n), [n]])
     return kl.QuinticTrajectory(np.array(points), times)
 
 
-def _one(settings, feedforward, seed, duration):
+def _one(settings, feedforward, seed, duration, robot):
     s = dict(settings, feedforward=feedforward)
-    rig = rig_from_settings(s, seed)
+    rig = rig_from_settings(s, seed, robot=robot)
     hover = rig.hover_pos.copy()
-    traj = sweep_trajectory(settings, rig.controller.nq)
+    if rig.controller.nq == 0:
+        raise ValueError(f"{NAME} needs an arm; {rig.robot.name} has none")
+    traj = sweep_trajectory(settings, rig.controller.nq, rig.plant.q0[rig.to_ctrl])
 
     def command(t, inp):
         inp.position_ref[:] = hover
@@ -78,11 +118,12 @@ def _one(settings, feedforward, seed, duration):
             "why": diverged(log)}, log
 
 
-def run(settings: dict, seed: int = 0, duration: float | None = None) -> ScenarioResult:
+def run(settings: dict, seed: int = 0, duration: float | None = None,
+        robot=None) -> ScenarioResult:
     if duration is None:
         duration = max(DURATION, settings["start"] + settings["period"] * settings["cycles"] + 0.5)
-    on, log = _one(settings, True, seed, duration)
-    off, _ = _one(settings, False, seed, duration)
+    on, log = _one(settings, True, seed, duration, robot)
+    off, _ = _one(settings, False, seed, duration, robot)
     metrics = {
         "attitude_ptp_deg_ff": on["ptp"],
         "attitude_ptp_deg_no_ff": off["ptp"],

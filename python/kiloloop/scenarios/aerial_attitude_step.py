@@ -5,6 +5,8 @@ from __future__ import annotations
 
 import numpy as np
 
+import kiloloop as kl
+
 from ..sil.aerial_rig import (AERIAL_PLOT, COMMON_DEFAULTS, LAWS, add_derived, diverged,
                               rig_from_settings)
 from . import ScenarioResult, evaluate
@@ -32,9 +34,10 @@ def roll_of(quat):
     return np.arctan2(2 * (w * x + y * z), 1 - 2 * (x * x + y * y))
 
 
-def _one(settings, law, seed, duration):
+def _one(settings, law, seed, duration, robot):
     s = dict(settings, law=law)
-    rig = rig_from_settings(s, seed)
+    rig = rig_from_settings(s, seed, robot=robot)
+    q0 = rig.plant.q0.copy()[rig.to_ctrl]
     hover = rig.hover_pos.copy()
     step = np.radians(settings["step_deg"])
     q_step = np.array([np.cos(step / 2), np.sin(step / 2), 0.0, 0.0])
@@ -42,9 +45,9 @@ def _one(settings, law, seed, duration):
 
     def command(t, inp):
         inp.position_ref[:] = hover
-        inp.attitude_mode = True
+        inp.flight_mode = kl.FlightMode.ATTITUDE
         inp.quat_ref[:] = q_step if t >= t_step else (1.0, 0.0, 0.0, 0.0)
-        inp.q_ref[:] = 0.0
+        inp.q_ref[:] = q0
 
     log = rig.run(duration, command)
     add_derived(log)
@@ -65,12 +68,13 @@ def _one(settings, law, seed, duration):
     return metrics, log, metrics_reason
 
 
-def run(settings: dict, seed: int = 0, duration: float | None = None) -> ScenarioResult:
+def run(settings: dict, seed: int = 0, duration: float | None = None,
+        robot=None) -> ScenarioResult:
     duration = DURATION if duration is None else duration
     laws = list(LAWS) if settings["law"] == "both" else [settings["law"]]
     metrics, log, reasons = {}, None, []
     for law in laws:
-        m, law_log, why = _one(settings, law, seed, duration)
+        m, law_log, why = _one(settings, law, seed, duration, robot)
         metrics.update(m)
         log = law_log if log is None else log
         if why:

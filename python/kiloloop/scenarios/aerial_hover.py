@@ -1,4 +1,5 @@
-"""aerial-hover: the aerial manipulator holds a hover point 1 m up with its arm hanging, IMU noise,
+"""aerial-hover: a multirotor (the aerial manipulator by default; any aerial robot file) holds a
+hover point 1 m up with its arm (if any) at its start pose, IMU noise,
 attitude-estimate noise, motion-capture noise, encoder quantization and a 2 ms command delay on.
 Judged after a 1 s settling window."""
 from __future__ import annotations
@@ -9,7 +10,7 @@ from ..sil.aerial_rig import AERIAL_PLOT, COMMON_DEFAULTS, add_derived, diverged
 from . import ScenarioResult, evaluate
 
 NAME = "aerial-hover"
-DESCRIPTION = "quadrotor + 3-DoF arm hovers at 1 m; position and attitude error (noise on)"
+DESCRIPTION = "multirotor (+ arm) hovers at 1 m; position and attitude error (noise on)"
 DURATION = 5.0
 SETTLE = 1.0  # [s] excluded from the metrics
 DEFAULTS = dict(COMMON_DEFAULTS)
@@ -18,16 +19,19 @@ CRITERIA = {"max_position_error_m": ("<", 0.02), "attitude_error_rms_deg": ("<",
 
 
 def hold(rig):
+    """Hover point and the arm at its start pose (controller order)."""
     hover = rig.hover_pos.copy()
+    q0 = rig.plant.q0.copy()[rig.to_ctrl]
 
     def command(t, inp):
         inp.position_ref[:] = hover
-        inp.q_ref[:] = 0.0
+        inp.q_ref[:] = q0
     return command
 
 
-def run(settings: dict, seed: int = 0, duration: float | None = None) -> ScenarioResult:
-    rig = rig_from_settings(settings, seed)
+def run(settings: dict, seed: int = 0, duration: float | None = None,
+        robot=None) -> ScenarioResult:
+    rig = rig_from_settings(settings, seed, robot=robot)
     log = rig.run(DURATION if duration is None else duration, hold(rig))
     add_derived(log)
     t = log["t"]

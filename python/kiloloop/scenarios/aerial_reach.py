@@ -62,9 +62,13 @@ class CartesianLine:
         return self.p0 + s * d, ds / self.T * d, _slerp(self.q0, self.q1, s)
 
 
-def run(settings: dict, seed: int = 0, duration: float | None = None) -> ScenarioResult:
-    rig = rig_from_settings(settings, seed)
-    rig.plant.reset(q=np.asarray(settings["q_start"], float))
+def run(settings: dict, seed: int = 0, duration: float | None = None,
+        robot=None) -> ScenarioResult:
+    rig = rig_from_settings(settings, seed, robot=robot)
+    if rig.controller.nq < 3:
+        raise ValueError(f"{NAME} needs an arm of at least 3 joints (position IK); "
+                         f"{rig.robot.name} has {rig.controller.nq}")
+    rig.plant.reset(q=np.asarray(settings["q_start"], float)[np.argsort(rig.to_ctrl)])
     hover = rig.hover_pos.copy()
     p0, R0 = rig.plant.ee_pose()
     p1 = p0 + np.asarray(settings["displacement"], float)
@@ -76,7 +80,7 @@ def run(settings: dict, seed: int = 0, duration: float | None = None) -> Scenari
 
     def command(t, inp):
         inp.position_ref[:] = hover
-        inp.arm_mode = 1
+        inp.arm_mode = kl.ArmMode.END_EFFECTOR
         p, v, _ = line.sample(t)
         inp.ee_position_ref[:] = p
         inp.ee_velocity_ref[:] = v

@@ -1,4 +1,4 @@
-"""aerial-rotor-fault: hovering, one rotor (front-left) drops to 70 % efficiency (thrust and drag
+"""aerial-rotor-fault: hovering, one rotor (the robot file's first by default) drops to 70 % efficiency (thrust and drag
 torque) at t = 1 s, unannounced to the controller; its integrators take up the imbalance. Judged
 on the largest distance from the hover point over the whole run."""
 from __future__ import annotations
@@ -16,11 +16,12 @@ DEFAULTS = dict(COMMON_DEFAULTS, rotor=0, efficiency=0.7, fault_time=1.0)
 CRITERIA = {"max_hover_deviation_m": ("<", 0.10), "airborne": (">", 0.5)}
 
 
-def run(settings: dict, seed: int = 0, duration: float | None = None) -> ScenarioResult:
-    rig = rig_from_settings(settings, seed)
+def run(settings: dict, seed: int = 0, duration: float | None = None,
+        robot=None) -> ScenarioResult:
+    rig = rig_from_settings(settings, seed, robot=robot)
     k, eff = int(settings["rotor"]), float(settings["efficiency"])
-    if not 0 <= k < 4:
-        raise ValueError(f"rotor: expected 0..3, got {k}")
+    if not 0 <= k < rig.n_rotors:
+        raise ValueError(f"rotor: expected 0..{rig.n_rotors - 1}, got {k}")
     events = [(settings["fault_time"], lambda plant: plant.set_efficiency(k, eff))]
     log = rig.run(DURATION if duration is None else duration, hold(rig), events=events)
     add_derived(log)

@@ -25,14 +25,19 @@ def quat_to_matrix(q) -> np.ndarray:
                      [2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)]])
 
 
-def inverse_dynamics_crosscheck(urdf, overlay, n: int = 200, seed: int = 20261122) -> dict:
+def inverse_dynamics_crosscheck(robot=None, n: int = 200, seed: int = 20261122) -> dict:
     """Largest |ours - MuJoCo| over n seeded random states (random attitude, body twist and
     acceleration, arm position within limits, velocity and acceleration): arm torques [N m] and
-    the reaction wrench [N, N m]."""
-    plant = AerialPlant(urdf, overlay, damping=0.0, frictionloss=0.0, motor_lag=False)
-    model = kl.RobotModel.from_urdf(str(urdf), tip="ee_link")
+    the reaction wrench [N, N m]. robot: an aerial robot file with an arm whose body CoM is its
+    origin (default: kiloloop's aerial manipulator)."""
+    from ..robot import aerial as aerial_robot
+    from .aerial_rig import load_robot
+
+    robot = load_robot(robot)
+    plant = AerialPlant.from_robot(robot, damping=0.0, frictionloss=0.0, motor_lag=False)
+    model = aerial_robot.model(robot)
     rne = kl.FloatingBaseRne(model)
-    ctrl = kl.AerialController(model)
+    ctrl = kl.AerialController(model, aerial_robot.config(robot))
     m_b, J_b = ctrl.body_mass, np.asarray(ctrl.body_inertia)
     rng = np.random.default_rng(seed)
     worst_tau = worst_force = worst_torque = 0.0
@@ -43,7 +48,7 @@ def inverse_dynamics_crosscheck(urdf, overlay, n: int = 200, seed: int = 2026112
         pos = rng.uniform(-1, 1, 3)
         v_w, omega = rng.normal(size=3), rng.normal(size=3) * 2.0
         a_w, alpha = rng.normal(size=3) * 5.0, rng.normal(size=3) * 10.0
-        qd, qdd = rng.normal(size=3) * 2.0, rng.normal(size=3) * 10.0
+        qd, qdd = rng.normal(size=model.nq) * 2.0, rng.normal(size=model.nq) * 10.0
         gen = plant.inverse_dynamics(pos, quat, q, v_w, omega, qd, a_w, alpha, qdd)
         R = quat_to_matrix(quat)
         status, tau, W = rne.compute(q, qd, qdd, R.T @ v_w, omega, R.T @ (a_w - _G), alpha)

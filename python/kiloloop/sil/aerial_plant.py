@@ -1,12 +1,14 @@
-"""Aerial-manipulator MuJoCo plant built at run time from a URDF plus a TOML overlay.
+"""Multirotor MuJoCo plant (n rotors, any positions and axes, an arm of 0..n joints or none),
+built at run time from a robot file: the URDF plus its [[rotors]] tables and [sim.*] sections.
 
-The URDF (models/aerial_manipulator/) is the single source of truth for kinematics, inertia and
-joint limits; the overlay (sim.toml) adds a free joint on the root link, four rotors as thrust
-actuators at sites on the body (first-order motor lag through MuJoCo's filter dynamics, yaw drag
-torque through the actuator gear), joint friction, the arm's torque motors and encoders, an IMU and
-an end-effector site. Reuses the builders of the fixed-base and legged plants (plant.py,
-floating_plant.py). SI units; quaternions (w, x, y, z); arm joints in URDF order; rotors in the
-overlay's order.
+The URDF is the single source of truth for kinematics, inertia and joint limits; the plant adds a
+free joint on the root link, one thrust actuator per rotor at a site whose z axis is the rotor's
+axis (first-order motor lag through MuJoCo's filter dynamics, drag torque through the actuator
+gear, saturation through the control range), joint friction, the arm's torque motors and
+encoders, an IMU and an end-effector site. Joints that are not the arm's (rotor spin joints of a
+description, say) are welded. Reuses the builders of the fixed-base and legged plants (plant.py,
+floating_plant.py). SI units; quaternions (w, x, y, z); arm joints in the controller's chain
+order; rotors in the robot file's order.
 
 Timing as in the other plants: step() runs mj_step2 then mj_step1, so positions, velocities and
 sensors describe the state after the last step.
@@ -22,56 +24,58 @@ from .floating_base import FloatingBaseReadout, add_free_base, add_imu
 from .floating_base import fixed as _fixed
 from .floating_base import unit_quat as _unit_quat
 from .plant import _add_joints_and_motors, _load_overlay, _spec_from_urdf, _urdf_joints
+from .urdf_import import weld_joints
 
 _DEFAULTS = {
     "physics": {"timestep": 0.001, "integrator": "implicitfast", "gravity": [0.0, 0.0, -9.81]},
     "joints": {"damping": 0.0, "frictionloss": 0.0, "armature": 0.0, "q0": None},
     "base": {"pos0": [0.0, 0.0, 1.0], "quat0": [1.0, 0.0, 0.0, 0.0]},
     "actuators": {"type": "motor"},
-    "rotors": {"positions": None, "spin": None, "drag_coefficient": 0.016, "thrust_min": 0.0,
-               "thrust_max": 8.0, "time_constant": 0.03, "efficiency": [1.0, 1.0, 1.0, 1.0]},
+    # Per-rotor thrust and drag-torque scale (a damaged propeller); None: 1 for every rotor.
+    "rotors": {"efficiency": None},
     "imu": {"body": None, "site": "imu", "pos": [0.0, 0.0, 0.0]},
-    "ee": {"body": "ee_link", "site": "ee_site"},
+    "ee": {"site": "ee_site"},
 }
 
 
 def load_overlay(overlay) -> dict:
-    """The aerial overlay (path, dict or None) merged over the defaults; also used by the rig to
-    hand the rotor geometry to the controller."""
+    """The aerial [sim.*] sections (path, dict or None) merged over the defaults."""
     return _load_overlay(overlay, _DEFAULTS)
 
 
-def rotor_geometry(cfg: dict) -> dict:
-    """Checked rotor section: positions (4, 3) [m], spin (4,), drag [m], limits [N], tau [s]."""
-    r = cfg["rotors"]
-    pos = _fixed(r["positions"], (4, 3), "rotors.positions")
-    spin = _fixed(r["spin"], (4,), "rotors.spin")
-    if not np.all(np.abs(spin) == 1.0):
-        raise ValueError(f"rotors.spin: expected +-1 each, got {r['spin']!r}")
-    eff = _fixed(r["efficiency"], (4,), "rotors.efficiency")
-    if np.any(eff < 0):
-        raise ValueError(f"rotors.efficiency: expected >= 0, got {r['efficiency']!r}")
-    out = {"positions": pos, "spin": spin, "efficiency": eff}
-    for key in ("drag_coefficient", "thrust_min", "thrust_max", "time_constant"):
-        value = float(r[key])
-        if not np.isfinite(value) or value < 0:
-            raise ValueError(f"rotors.{key}: expected a finite number >= 0, got {r[key]!r}")
-        out[key] = value
-    if out["thrust_max"] <= out["thrust_min"]:
-        raise ValueError("rotors: thrust_max must exceed thrust_min")
-    return out
+def _rotor_frame(axis) -> np.ndarray:
+    """(w, x, y, z) rotating +z onto `axis` (the site frame a rotor pushes along)."""
+    z = np.array([0.0, 0.0, 1.0])
+    a = np.asarray(axis, dtype=float) / np.linalg.norm(axis)
+    q = np.zeros(4)
+    mujoco.mju_quatZ2Vec(q, a)
+    return q if np.all(np.isfinite(q)) else np.array([1.0, 0.0, 0.0, 0.0]) * np.sign(a @ z)
 
 
 class AerialPlant(FloatingBaseReadout):
-    """A quadrotor with a torque-controlled arm: rotor thrust commands [N] and joint torques [N m]."""
+    """A multirotor, with or without a torque-controlled arm: rotor thrust commands [N] and joint
+    torques [N m]."""
 
-    n_rotors = 4
+    @classmethod
+    def from_robot(cls, robot, **kw) -> "AerialPlant":
+        """The plant of a loaded aerial robot file (kl.Robot)."""
+        from ..robot import aerial
 
-    def __init__(self, urdf_path, overlay=None, *, timestep=None, damping=None, frictionloss=None,
-                 efficiency=None, motor_lag=True):
-        """overlay: a sim.toml path, a dict of its sections, or None. timestep [s], damping,
-        frictionloss (arm joints) and efficiency (4,) override it; motor_lag=False makes thrust
-        follow the command instantly (used by the inverse-dynamics cross-check)."""
+        model = aerial.model(robot)
+        v = robot.section("vehicle")
+        return cls(robot.urdf, robot.sim, rotors=aerial.rotors(robot),
+                   joints=list(model.joint_names) if v.get("ee") else [], ee=v.get("ee") or None,
+                   package_dirs=robot.package_dirs, **kw)
+
+    def __init__(self, urdf_path, overlay=None, *, rotors, joints=None, ee=None, package_dirs=(),
+                 visual=False, timestep=None, damping=None, frictionloss=None, efficiency=None,
+                 motor_lag=True):
+        """overlay: the [sim.*] sections (a dict or a TOML path) or None. rotors: the checked
+        [[rotors]] tables (robot/aerial.py rotors()). joints: the arm's joints in chain order
+        (None: every actuated URDF joint); the others are welded. ee: the end-effector link (None:
+        no arm site). timestep [s], damping, frictionloss (arm joints) and efficiency (n,)
+        override the overlay; motor_lag=False makes thrust follow the command instantly (used by
+        the inverse-dynamics cross-check)."""
         urdf_path = Path(urdf_path)
         cfg = load_overlay(overlay)
         phys, jcfg = cfg["physics"], cfg["joints"]
@@ -80,50 +84,65 @@ class AerialPlant(FloatingBaseReadout):
         for key, val in (("damping", damping), ("frictionloss", frictionloss)):
             if val is not None:
                 jcfg[key] = val
-        if efficiency is not None:
-            cfg["rotors"]["efficiency"] = list(np.asarray(efficiency, dtype=float))
-        self.rotors = rotor_geometry(cfg)
+        self.rotors = list(rotors)
+        self.n_rotors = n = len(self.rotors)
+        eff = efficiency if efficiency is not None else cfg["rotors"]["efficiency"]
+        self.efficiency = np.ones(n) if eff is None else _fixed(eff, (n,), "rotors.efficiency")
+        if np.any(self.efficiency < 0):
+            raise ValueError(f"rotors.efficiency: expected >= 0, got {eff!r}")
 
-        self.joint_names, effort = _urdf_joints(urdf_path)
+        names, effort = _urdf_joints(urdf_path)
+        index = {name: i for i, name in enumerate(names)}
+        self.joint_names = list(names if joints is None else joints)
+        missing = [j for j in self.joint_names if j not in index]
+        if missing:
+            raise ValueError(f"{urdf_path}: no actuated joint named {missing[0]!r}")
         self.nq = len(self.joint_names)
-        self.effort = effort
+        self.effort = np.array([effort[index[j]] for j in self.joint_names])
 
-        spec = _spec_from_urdf(urdf_path, phys)
+        self.notes = []
+        spec = _spec_from_urdf(urdf_path, phys, package_dirs, visual, self.notes)
+        welded = weld_joints(spec, self.joint_names)
+        if welded:
+            self.notes.append(f"welded {len(welded)} joints off the arm: {', '.join(welded)}")
         root = add_free_base(spec, urdf_path)
         self.base_body = root.name
         # Free flight: no floor and no self-collision (the arm may pass under the body).
         for geom in spec.geoms:
             geom.contype, geom.conaffinity = 0, 0
 
-        _add_joints_and_motors(spec, self.joint_names, effort, jcfg, cfg["actuators"])
+        if self.nq:
+            _add_joints_and_motors(spec, self.joint_names, self.effort, jcfg, cfg["actuators"])
 
-        # Rotors: a site per rotor; a site-transmission actuator pushes along the site's z and
-        # twists about it with gear (0, 0, 1, 0, 0, spin * drag), so torque = drag * thrust.
+        # Rotors: a site per rotor with z along its axis; a site-transmission actuator pushes along
+        # the site's z and twists about it with gear (0, 0, 1, 0, 0, -spin * c): a rotor turning
+        # counter-clockwise about its axis (spin +1) drags the body the other way.
         # Filter dynamics: d/dt act = (ctrl - act) / tau, force = efficiency * act.
-        rot = self.rotors
-        lag = rot["time_constant"] if motor_lag else 0.0
         self.rotor_names = []
-        for k in range(self.n_rotors):
+        for k, r in enumerate(self.rotors):
             name = f"rotor{k}"
-            root.add_site(name=name, pos=rot["positions"][k])
+            root.add_site(name=name, pos=r["position"], quat=_rotor_frame(r["axis"]))
             act = spec.add_actuator(name=name, target=name, trntype=mujoco.mjtTrn.mjTRN_SITE)
-            act.gear = [0.0, 0.0, 1.0, 0.0, 0.0, rot["spin"][k] * rot["drag_coefficient"]]
+            act.gear = [0.0, 0.0, 1.0, 0.0, 0.0, -r["spin"] * r["torque_coefficient"]]
             act.gaintype = mujoco.mjtGain.mjGAIN_FIXED
-            act.gainprm[0] = rot["efficiency"][k]
+            act.gainprm[0] = self.efficiency[k]
             act.biastype = mujoco.mjtBias.mjBIAS_NONE
+            lag = r["time_constant"] if motor_lag else 0.0
             if lag > 0:
                 act.dyntype = mujoco.mjtDyn.mjDYN_FILTER
                 act.dynprm[0] = lag
             act.ctrllimited = mujoco.mjtLimited.mjLIMITED_TRUE
-            act.ctrlrange = [rot["thrust_min"], rot["thrust_max"]]
+            act.ctrlrange = [r["thrust_min"], r["thrust_max"]]
             self.rotor_names.append(name)
 
         self.imu_site = add_imu(spec, cfg["imu"], self.base_body, urdf_path)
-        ee_body = spec.body(cfg["ee"]["body"])
-        if ee_body is None:
-            raise ValueError(f"ee.body: no link named {cfg['ee']['body']!r} in {urdf_path}")
-        self.ee_site = cfg["ee"]["site"]
-        ee_body.add_site(name=self.ee_site)
+        self.ee_site = None
+        if ee is not None:
+            ee_body = spec.body(ee)
+            if ee_body is None:
+                raise ValueError(f"vehicle.ee: no link named {ee!r} in {urdf_path}")
+            self.ee_site = cfg["ee"]["site"]
+            ee_body.add_site(name=self.ee_site)
 
         self.spec = spec
         self.model = spec.compile()
@@ -133,7 +152,7 @@ class AerialPlant(FloatingBaseReadout):
         self._index_floating_base()
         m = self.model
         self._rotor_act = np.array([m.actuator(n).id for n in self.rotor_names])
-        self._ee_site = m.site(self.ee_site).id
+        self._ee_site = m.site(self.ee_site).id if self.ee_site else None
         q0 = jcfg["q0"]
         self.q0 = np.zeros(self.nq) if q0 is None else _fixed(q0, (self.nq,), "q0")
         self.base_pos0 = _fixed(cfg["base"]["pos0"], (3,), "base.pos0")
@@ -142,19 +161,40 @@ class AerialPlant(FloatingBaseReadout):
 
     def reset(self, q=None, base_pos=None, base_quat=None, thrust=None) -> None:
         """Arm at q (default q0), body at base_pos/base_quat, at rest; the rotors' filtered thrust
-        starts at `thrust` (4,) [N] (default: each carries a quarter of the total weight, so a
-        hover starts without a drop while the motor lag winds up)."""
+        starts at `thrust` (n,) [N] (default: the hover share, the weight through the pseudo-
+        inverse of the rotors' force and torque about the CoM, so a hover starts without a drop
+        while the motor lag winds up)."""
         mujoco.mj_resetData(self.model, self.data)
         d = self.data
         d.qpos[self._qadr] = self.q0 if q is None else _fixed(q, (self.nq,), "q")
         self._set_base_pose(d, base_pos, base_quat)
-        hover = self.total_mass * abs(self.model.opt.gravity[2]) / self.n_rotors
-        f0 = np.full(self.n_rotors, hover) if thrust is None else _fixed(thrust, (4,), "thrust")
+        f0 = self.hover_thrusts() if thrust is None else _fixed(thrust, (self.n_rotors,),
+                                                                 "thrust")
         d.ctrl[self._rotor_act] = f0
         adr = self.model.actuator_actadr[self._rotor_act]
         has_act = adr >= 0
         d.act[adr[has_act]] = f0[has_act]
         mujoco.mj_forward(self.model, d)
+
+    def hover_thrusts(self) -> np.ndarray:
+        """(n,) [N] the minimum-norm thrusts that hold the vehicle's weight at the current pose
+        with zero net torque about its CoM and no lateral force (rotors within their range)."""
+        m, d = self.model, self.data
+        mujoco.mj_kinematics(m, d)
+        mujoco.mj_comPos(m, d)
+        com = d.subtree_com[self._base_id]
+        B = np.zeros((6, self.n_rotors))
+        for k, r in enumerate(self.rotors):
+            sid = m.site(self.rotor_names[k]).id
+            a = d.site_xmat[sid].reshape(3, 3)[:, 2]
+            p = d.site_xpos[sid] - com
+            B[:3, k] = self.efficiency[k] * a
+            B[3:, k] = self.efficiency[k] * (np.cross(p, a) - r["spin"] * r["torque_coefficient"] * a)
+        w = np.zeros(6)
+        w[2] = self.total_mass * abs(m.opt.gravity[2])
+        f = np.linalg.lstsq(B, w, rcond=None)[0]
+        return np.clip(f, [r["thrust_min"] for r in self.rotors],
+                       [r["thrust_max"] for r in self.rotors])
 
     # --- ground truth beyond the mixin's (joint_q/q, imu, base_pose, base_velocity) ---------
 
@@ -163,23 +203,39 @@ class AerialPlant(FloatingBaseReadout):
         return self.data.subtree_com[self._base_id].copy()
 
     def ee_pose(self) -> tuple[np.ndarray, np.ndarray]:
-        """End-effector site position (3,) [m] and rotation (3, 3), world frame."""
+        """End-effector site position (3,) [m] and rotation (3, 3), world frame (the base link's
+        origin without an arm)."""
+        if self._ee_site is None:
+            b = self._base_id
+            return self.data.xpos[b].copy(), self.data.xmat[b].reshape(3, 3).copy()
         return (self.data.site_xpos[self._ee_site].copy(),
                 self.data.site_xmat[self._ee_site].reshape(3, 3).copy())
 
     def rotor_thrust(self) -> np.ndarray:
-        """Thrust each rotor produces now (4,) [N] (after the lag and the efficiency)."""
+        """Thrust each rotor produces now (n,) [N] (after the lag and the efficiency)."""
         return self.data.actuator_force[self._rotor_act].copy()
 
     # --- commands -----------------------------------------------------------------------------
 
     def set_torque(self, tau) -> None:
         """Arm joint torques (nq,) [N m]; MuJoCo clamps them to +-effort."""
-        self.data.ctrl[self._act] = _fixed(tau, (self.nq,), "tau")
+        if self.nq:
+            self.data.ctrl[self._act] = _fixed(tau, (self.nq,), "tau")
 
     def set_thrust(self, thrust) -> None:
-        """Rotor thrust commands (4,) [N]; MuJoCo clamps them to [thrust_min, thrust_max]."""
+        """Rotor thrust commands (n,) [N]; MuJoCo clamps them to [thrust_min, thrust_max]."""
         self.data.ctrl[self._rotor_act] = _fixed(thrust, (self.n_rotors,), "thrust")
+
+    def apply_force(self, force, point=None) -> None:
+        """A world-frame force (3,) [N] on the base body at `point` (3,) [m, world; default its
+        CoM], until changed (MuJoCo's xfrc_applied: wind, a push)."""
+        f = _fixed(force, (3,), "force")
+        b = self._base_id
+        torque = np.zeros(3)
+        if point is not None:
+            torque = np.cross(_fixed(point, (3,), "point") - self.data.xipos[b], f)
+        self.data.xfrc_applied[b, :3] = f
+        self.data.xfrc_applied[b, 3:] = torque
 
     def set_efficiency(self, k: int, efficiency: float) -> None:
         """Scales rotor k's thrust and drag torque from now on (a damaged propeller)."""

@@ -1,5 +1,5 @@
-"""SIL rig for the aerial manipulator: MuJoCo plant (aerial_plant.py) + sensor non-idealities +
-the compiled AerialController, at 1 kHz. Scenarios (scenarios/aerial_*.py) script the references
+"""SIL rig for multirotors (with or without an arm) from a robot file: MuJoCo plant
+(aerial_plant.py) + sensor non-idealities + the compiled AerialController, at 1 kHz. Scenarios (scenarios/aerial_*.py) script the references
 and disturbances and judge the log; this file only moves data (no control logic).
 
 What the controller sees: the IMU (gyro with noise, orientation with a small noise standing in for
@@ -16,27 +16,30 @@ import numpy as np
 
 import kiloloop as kl
 
-from .aerial_plant import AerialPlant, load_overlay, rotor_geometry
+from ..robot import aerial as aerial_robot
+from .aerial_plant import AerialPlant
 from .log import SignalLog
 from .nonideal import MotorDelay, NonIdealities, SensorModel
+from .video import maybe_recorder
 
 CONTROL_DT = 0.001  # [s]
+DEFAULT_ROBOT = "aerial_manipulator"
+
+
+def load_robot(robot=None):
+    """A loaded kl.Robot: `robot` itself, or a name / file, or kiloloop's aerial manipulator."""
+    from ..robot import Robot
+
+    return robot if isinstance(robot, Robot) else Robot.load(robot or DEFAULT_ROBOT)
 
 
 def aerial_paths():
-    return kl.model_files("aerial_manipulator")
+    return kl.model_files(DEFAULT_ROBOT)
 
 
-def rotor_config(overlay=None) -> "kl.RotorAllocationConfig":
-    """The controller's rotor settings from the model's overlay (the single place they live)."""
-    r = rotor_geometry(load_overlay(aerial_paths()[1] if overlay is None else overlay))
-    c = kl.RotorAllocationConfig()
-    c.positions = r["positions"].T.copy()
-    c.spin = r["spin"]
-    c.drag_coefficient = r["drag_coefficient"]
-    c.thrust_min, c.thrust_max = r["thrust_min"], r["thrust_max"]
-    c.time_constant = r["time_constant"]
-    return c
+def rotor_config(robot=None) -> "kl.RotorAllocationConfig":
+    """The controller's rotor settings from the robot file's [[rotors]] (the one place they live)."""
+    return aerial_robot.rotor_config(load_robot(robot))
 
 
 @dataclass
@@ -49,7 +52,8 @@ class AerialRigSettings:
     joint_friction: bool = True     # the overlay's arm friction (False: frictionless plant)
     lag_compensation: bool = False  # rotor-lag lead in the controller's allocation
     friction_compensation: bool = True  # the controller knows the arm's joint friction
-    config: object = None           # kl.AerialConfig; None = defaults (+ the model's rotors)
+    config: object = None           # kl.AerialConfig; None = derived from the robot file
+    video: str | None = None        # an .mp4 path: record the run
 
 
 # command(t, input): sets the references on the controller input for time t.
@@ -57,47 +61,67 @@ CommandFn = Callable[[float, object], None]
 
 
 class AerialRig:
-    def __init__(self, settings: AerialRigSettings, seed: int = 0):
-        urdf, overlay = aerial_paths()
+    def __init__(self, settings: AerialRigSettings, seed: int = 0, robot=None):
+        robot = load_robot(robot)
+        self.robot = robot
         self.settings = settings
         kw = {} if settings.joint_friction else {"damping": 0.0, "frictionloss": 0.0}
-        self.plant = AerialPlant(urdf, overlay, timestep=settings.physics_dt, **kw)
-        self.model = kl.RobotModel.from_urdf(str(urdf), tip="ee_link")
-        config = settings.config if settings.config is not None else kl.AerialConfig()
+        self.plant = AerialPlant.from_robot(robot, timestep=settings.physics_dt,
+                                            visual=bool(settings.video), **kw)
+        self.model = aerial_robot.model(robot)
+        config = (settings.config if settings.config is not None
+                  else aerial_robot.config(robot))
         config.dt = CONTROL_DT
-        if settings.joint_friction and settings.friction_compensation:
-            # The arm's friction as identified: the overlay's values (what the plant simulates).
-            joints = load_overlay(overlay)["joints"]
-            config.arm_viscous = np.atleast_1d(np.asarray(joints["damping"], dtype=float))
-            config.arm_coulomb = np.atleast_1d(np.asarray(joints["frictionloss"], dtype=float))
-        rotors = rotor_config(overlay)
+        if settings.joint_friction and settings.friction_compensation and self.plant.nq:
+            # The arm's friction as identified: the robot file's values (what the plant simulates).
+            joints = robot.sim.get("joints", {})
+            for field_name, key in (("arm_viscous", "damping"), ("arm_coulomb", "frictionloss")):
+                value = joints.get(key)
+                if value is not None:
+                    setattr(config, field_name, np.atleast_1d(np.asarray(value, dtype=float)))
+        rotors = config.rotors
         rotors.lag_compensation = settings.lag_compensation
         config.rotors = rotors
         self.config = config
         self.controller = kl.AerialController(self.model, config)
+        self.n_rotors = self.controller.n_rotors
         plant_index = {name: i for i, name in enumerate(self.plant.joint_names)}
-        self.to_ctrl = np.array([plant_index[n] for n in self.model.joint_names])
+        names = list(self.model.joint_names) if self.controller.nq else []
+        self.to_ctrl = np.array([plant_index[n] for n in names], dtype=int)
         self.to_plant = np.argsort(self.to_ctrl)
         self.sensors = SensorModel(settings.nonideal, seed=seed)
         # A second stream for the motion-capture noise keeps the IMU's stream seed-stable.
         self.rng = np.random.default_rng(None if seed is None else seed + 1_000_003)
-        self.motors = MotorDelay(settings.nonideal, control_dt=CONTROL_DT, n=4 + self.plant.nq,
-                                 initial="first")
+        self.motors = MotorDelay(settings.nonideal, control_dt=CONTROL_DT,
+                                 n=self.n_rotors + self.plant.nq, initial="first")
         self.substeps = max(1, round(CONTROL_DT / self.plant.timestep))
         self.input, self.output = self.controller.make_input(), self.controller.make_output()
         self.hover_pos = self.plant.base_pos0.copy()
 
     def run(self, duration: float, command: CommandFn, events=(),
-            log: SignalLog | None = None) -> SignalLog:
-        """events: (time [s], action(plant)) pairs, each run once when its time comes."""
+            log: SignalLog | None = None, disturbance=None) -> SignalLog:
+        """events: (time [s], action(plant)) pairs, each run once when its time comes;
+        disturbance(t, plant, log): called every tick before the controller (wind, pushes)."""
         log = SignalLog() if log is None else log
+        recorder = maybe_recorder(self.settings.video, self.plant.model,
+                                  body=self.plant._base_id)
+        try:
+            return self._run(duration, command, events, log, disturbance, recorder)
+        finally:
+            if recorder is not None:
+                recorder.close()
+
+    def _run(self, duration, command, events, log, disturbance, recorder):
         pending = sorted(events, key=lambda e: e[0])
         inp, out, plant = self.input, self.output, self.plant
         noisy = self.settings.nonideal.enabled
+        n = self.n_rotors
         for k in range(int(round(duration / CONTROL_DT))):
             t = k * CONTROL_DT
             while pending and pending[0][0] <= t + 1e-12:
                 pending.pop(0)[1](plant)
+            if disturbance is not None:
+                disturbance(t, plant, log)
             imu, q, qd = self.sensors.apply(plant.imu(), plant.q(), plant.qd())
             pos, quat = plant.base_pose()
             vel, omega = plant.base_velocity()
@@ -111,10 +135,12 @@ class AerialRig:
             command(t, inp)
             status = self.controller.step(inp, out)
             cmd = self.motors.push(np.concatenate([out.thrust, out.tau[self.to_plant]]))
-            plant.set_thrust(cmd[:4])
-            plant.set_torque(cmd[4:])
+            plant.set_thrust(cmd[:n])
+            plant.set_torque(cmd[n:])
             self._record(log, t, status, pos, quat, vel, omega)
             plant.step(self.substeps)
+            if recorder is not None:
+                recorder.capture(plant.data)
             if not np.all(np.isfinite(plant.data.qpos)):
                 log.record("diverged", 1.0)
                 break
@@ -192,7 +218,8 @@ COMMON_DEFAULTS = {
     "law": "quaternion_pd",    # or "geometric_so3"
     "feedforward": True,       # arm reaction feed-forward
     "lag_compensation": False, # rotor-lag lead in the allocation (all thrusts)
-    "reaction_lead": 0.0,      # [s] lead on the fed-forward reaction torque only
+    "reaction_lead": None,     # [s] lead on the fed-forward reaction torque; None: derived
+                               # (the rotor time constant, robot/aerial.py)
     "hold_com": True,          # the position loop holds the vehicle's CoM (not the body origin)
     # The controller compensates the arm's (identified) joint friction (the overlay's values).
     "friction_compensation": True,
@@ -206,13 +233,15 @@ COMMON_DEFAULTS = {
 LAWS = {"quaternion_pd": "QUATERNION_PD", "geometric_so3": "GEOMETRIC_SO3"}
 
 
-def config_from_settings(settings: dict) -> "kl.AerialConfig":
-    config = kl.AerialConfig()
+def config_from_settings(settings: dict, robot=None) -> "kl.AerialConfig":
+    """The robot file's derived configuration with the scenario settings on top."""
+    config = aerial_robot.config(load_robot(robot))
     if settings["law"] not in LAWS:
         raise ValueError(f"law: expected one of {sorted(LAWS)}, got {settings['law']!r}")
     config.attitude.law = getattr(kl.AttitudeLaw, LAWS[settings["law"]])
     config.reaction_feedforward = bool(settings["feedforward"])
-    config.reaction_lead = float(settings["reaction_lead"])
+    if settings["reaction_lead"] is not None:
+        config.reaction_lead = float(settings["reaction_lead"])
     config.hold_com = bool(settings["hold_com"])
     gains = config.attitude.gains
     kp, kd, ki = np.array(gains.kp), np.array(gains.kd), np.array(gains.ki)
@@ -234,20 +263,22 @@ def config_from_settings(settings: dict) -> "kl.AerialConfig":
     return config
 
 
-def rig_from_settings(settings: dict, seed: int, config=None) -> AerialRig:
+def rig_from_settings(settings: dict, seed: int, config=None, robot=None) -> AerialRig:
     nonideal = NonIdealities(enabled=settings["nonideal"], gyro_sigma=settings["gyro_sigma"],
                              accel_sigma=settings["accel_sigma"],
                              quat_sigma=settings["quat_sigma"],
                              motor_delay=settings["motor_delay"])
     nonideal.validate()
-    config = config_from_settings(settings) if config is None else config
+    robot = load_robot(robot)
+    config = config_from_settings(settings, robot) if config is None else config
     rig = AerialRig(AerialRigSettings(physics_dt=settings["physics_dt"], nonideal=nonideal,
                                       position_sigma=settings["position_sigma"],
                                       velocity_sigma=settings["velocity_sigma"],
                                       lag_compensation=bool(settings["lag_compensation"]),
                                       friction_compensation=bool(
                                           settings["friction_compensation"]),
-                                      config=config), seed=seed)
+                                      config=config, video=settings.get("video")),
+                    seed=seed, robot=robot)
     return rig
 
 

@@ -136,10 +136,11 @@ def joint_addresses(m, joint_names) -> tuple[np.ndarray, ...]:
     """qpos and dof addresses, motor ids and encoder sensor addresses of the named joints (as
     built by add_joints_and_motors)."""
     jid = [m.joint(n).id for n in joint_names]
+    # dtype=int: a plant without joints (a multirotor with no arm) gets empty index arrays.
     return (m.jnt_qposadr[jid].copy(), m.jnt_dofadr[jid].copy(),
-            np.array([m.actuator(n).id for n in joint_names]),
-            np.array([m.sensor_adr[m.sensor(f"{n}_pos").id] for n in joint_names]),
-            np.array([m.sensor_adr[m.sensor(f"{n}_vel").id] for n in joint_names]))
+            np.array([m.actuator(n).id for n in joint_names], dtype=int),
+            np.array([m.sensor_adr[m.sensor(f"{n}_pos").id] for n in joint_names], dtype=int),
+            np.array([m.sensor_adr[m.sensor(f"{n}_vel").id] for n in joint_names], dtype=int))
 
 
 class MujocoPlant:

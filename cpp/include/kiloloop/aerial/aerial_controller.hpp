@@ -1,10 +1,18 @@
 #pragma once
-// AerialController: the 1 kHz controller of a quadrotor carrying a serial arm.
-//   safety -> arm reference (joints, or end-effector position by damped IK) -> position PID ->
-//   thrust vector -> desired attitude -> attitude law -> arm computed torque with the body's
-//   motion and the reaction wrench (FloatingBaseRne, one pass) -> feed-forward -> allocation.
-// The model is the arm's chain from the body link (root, whose own inertia is the body's) to the
-// end effector: RobotModel.from_urdf(path, tip="ee_link"). Body CoM = body link origin.
+// AerialController: the 1 kHz controller of a multirotor (n >= 4 rotors, any layout) carrying a
+// serial arm of 0..n joints, or none. step() is a short list of named stages over a per-tick
+// scratch (AerialTick) kept in the workspace:
+//   check_measurements -> load_references -> arm_reference (joints, or end-effector position by
+//   damped IK) -> position_loop -> thrust_and_attitude -> arm_dynamics (arm computed torque with
+//   the body's motion and the reaction wrench, FloatingBaseRne, one pass; feed-forward) ->
+//   allocate -> arm_output -> guard_output (a last finite-output check).
+// The model: the arm's chain from the body link to the end effector
+// (RobotModel.from_urdf(path, root=base, tip=ee)), or, for a vehicle without an arm, the whole
+// tree (no chain; every link rigid). The body is the root link plus every link rigidly
+// attached to it off the arm; its centre of mass may be anywhere: the attitude dynamics, the rotor
+// geometry and the reaction torque are all taken about it (RotorAllocationConfig::positions are
+// in the base link frame; the controller shifts them). The position loop acts on the base link
+// origin (what the references and the state describe).
 //
 // Reaction feed-forward (switchable): coupled inverse dynamics. The attitude law runs on the body
 // alone and yields the body's angular acceleration; one RNE pass of the arm on the body moving
@@ -31,6 +39,12 @@
 #include "kiloloop/status.hpp"
 
 namespace kiloloop {
+
+// Flight mode: position (the position loop sets the attitude) or attitude (quat_ref sets it; the
+// collective thrust still holds the altitude).
+enum class FlightMode : int { kPosition = 0, kAttitude = 1 };
+// Arm reference: joints (q_ref, qd_ref, qdd_ref) or the end-effector position (world).
+enum class ArmMode : int { kJoints = 0, kEndEffector = 1 };
 
 struct AerialConfig {
   double dt = 0.001;                                        // [s] control period
@@ -98,12 +112,10 @@ struct AerialInput {
   Eigen::Vector3d velocity_ref = Eigen::Vector3d::Zero();      // [m/s]
   Eigen::Vector3d acceleration_ref = Eigen::Vector3d::Zero();  // [m/s^2]
   double yaw_ref = 0.0;                                        // [rad]
-  // Attitude mode: quat_ref replaces the attitude the position loop asks for; the collective
-  // thrust still holds the altitude.
-  bool attitude_mode = false;
+  // FlightMode::kAttitude: quat_ref replaces the attitude the position loop asks for.
+  FlightMode flight_mode = FlightMode::kPosition;
   Eigen::Vector4d quat_ref = Eigen::Vector4d(1, 0, 0, 0);  // w, x, y, z, world <- body
-  // Arm references: arm_mode 0 joints (q_ref, qd_ref, qdd_ref), 1 end-effector position (world).
-  int arm_mode = 0;
+  ArmMode arm_mode = ArmMode::kJoints;
   Eigen::VectorXd q_ref;    // (nq) [rad]
   Eigen::VectorXd qd_ref;   // (nq) [rad/s]
   Eigen::VectorXd qdd_ref;  // (nq) [rad/s^2]
@@ -112,7 +124,7 @@ struct AerialInput {
 };
 
 struct AerialOutput {
-  Eigen::Vector4d thrust = Eigen::Vector4d::Zero();  // [N] rotor commands, within limits
+  Eigen::VectorXd thrust;                            // (n rotors) [N] commands, within limits
   Eigen::VectorXd tau;                               // (nq) [N m] arm torques, within effort
   Status status = Status::kNotConfigured;
   Eigen::Vector4d wrench = Eigen::Vector4d::Zero();           // [N; N m] commanded T, tau (body)
@@ -128,6 +140,20 @@ struct AerialOutput {
   bool safe_stop = false;
 };
 
+// What one stage hands the next within a tick (workspace scratch, fixed size: no allocation).
+struct AerialTick {
+  Status status = Status::kOk;       // worst degradation so far this tick
+  Eigen::Matrix3d R = Eigen::Matrix3d::Identity();                 // world <- body
+  Eigen::Quaterniond q = Eigen::Quaterniond::Identity();          // world <- body
+  Eigen::Vector3d a_des = Eigen::Vector3d::Zero();                 // [m/s^2] world
+  Eigen::Quaterniond q_des = Eigen::Quaterniond::Identity();      // attitude target
+  double collective = 0.0;                                         // [N] along body z
+  Eigen::Vector3d tau_body = Eigen::Vector3d::Zero();  // [N m] about the body CoM, body frame
+  Eigen::Vector3d alpha = Eigen::Vector3d::Zero();     // [rad/s^2] asked of the body
+  Vector6d W = Vector6d::Zero();  // [N; N m] body -> arm, body frame, about the body origin
+  Eigen::Vector4d wrench = Eigen::Vector4d::Zero();    // [N; N m] to the allocation
+};
+
 class AerialController {
  public:
   static Status configure(const AerialConfig& config, RobotModelPtr model, AerialController* out,
@@ -137,25 +163,45 @@ class AerialController {
   AerialInput make_input() const;    // sized for this model, hovering at the origin
   AerialOutput make_output() const;
   int nq() const { return nq_; }
+  int n_rotors() const { return allocation_.n(); }
+  bool has_arm() const { return has_arm_; }
+  const RotorAllocation& allocation() const { return allocation_; }
+  // [m] body frame: the body's own centre of mass, and the vehicle's with the arm at nominal.
+  const Eigen::Vector3d& body_com() const { return c_body_; }
+  const Eigen::Vector3d& vehicle_com() const { return c_vehicle_; }
   double body_mass() const { return m_body_; }       // [kg]
   double total_mass() const { return m_total_; }     // [kg] body + arm
-  const Eigen::Matrix3d& body_inertia() const { return J_body_; }    // [kg m^2] about the origin
+  const Eigen::Matrix3d& body_inertia() const { return J_body_; }  // [kg m^2] about body_com
   const Eigen::Matrix3d& rigid_inertia() const { return J_rigid_; }  // with the arm at nominal
   double hover_thrust() const { return m_total_ * gravity_norm_; }   // [N] total
   const AerialConfig& config() const { return cfg_; }
   void reset() noexcept;  // clears integrators, references and a latched safe stop
 
  private:
-  Status run(const AerialInput& in, AerialOutput& out) noexcept;
-  void failsafe(AerialOutput& out, bool motors_off) noexcept;
-  // kOk, kBadSize (arm references of the wrong size) or kNonFiniteReference; on failure the
-  // previous references stay.
-  Status load_references(const AerialInput& in) noexcept;
+  // The stages of step(), in order; each reads and writes tick_ and the workspace.
+  // Sizes, latched stop, tilt, finite and fresh state; a failure is returned with the failsafe
+  // already written.
+  Status check_measurements(const AerialInput& in, AerialOutput& out) noexcept;
+  // Takes valid references (kBadSize / kNonFiniteReference keep the previous ones, or hold the
+  // current state when there are none yet).
+  void load_references(const AerialInput& in) noexcept;
+  void arm_reference(const AerialInput& in, AerialOutput& out) noexcept;
+  void position_loop(const AerialInput& in, AerialOutput& out) noexcept;
+  void thrust_and_attitude(const AerialInput& in, AerialOutput& out) noexcept;
+  Status arm_dynamics(const AerialInput& in, AerialOutput& out) noexcept;
+  void allocate(AerialOutput& out) noexcept;
+  void arm_output(const AerialInput& in, AerialOutput& out) noexcept;
+  Status guard_output(AerialOutput& out) noexcept;
+
+  Status accept_references(const AerialInput& in) noexcept;
   Status arm_target(const Eigen::Matrix3d& R, const AerialInput& in) noexcept;
+  void failsafe(AerialOutput& out, bool motors_off) noexcept;
 
   AerialConfig cfg_;
   RobotModelPtr model_;
   int nq_ = 0;
+  bool has_arm_ = false;  // a chain from the body (nq may still be 0: a rigid payload)
+  AerialTick tick_;
   Dynamics kin_;  // FK and Jacobian of the arm in the body frame
   FloatingBaseRne rne_;
   PositionController position_;
@@ -163,6 +209,9 @@ class AerialController {
   RotorAllocation allocation_;
   double m_body_ = 0.0, m_total_ = 0.0, gravity_norm_ = 9.81;
   Eigen::Matrix3d J_body_ = Eigen::Matrix3d::Identity(), J_rigid_ = Eigen::Matrix3d::Identity();
+  Eigen::Vector3d c_body_ = Eigen::Vector3d::Zero();     // [m] body CoM, base link frame
+  Eigen::Vector3d c_vehicle_ = Eigen::Vector3d::Zero();  // [m] vehicle CoM at nominal
+  Eigen::VectorXd failsafe_thrust_;                      // (n) [N] per rotor
   Eigen::VectorXd kp_, kd_, viscous_, coulomb_, lower_, upper_, effort_;
   // Scratch and state, sized at configure.
   Eigen::VectorXd q_ref_, qd_ref_, qdd_ref_, q_ik_, qdd_cmd_, tau_;
@@ -171,8 +220,8 @@ class AerialController {
   Eigen::Vector3d p_ref_, v_ref_, a_ref_, ee_ref_, ee_vel_ref_;
   Eigen::Quaterniond quat_ref_ = Eigen::Quaterniond::Identity();
   double yaw_ref_ = 0.0;
-  bool attitude_mode_ = false;
-  int arm_mode_ = 0;
+  FlightMode flight_mode_ = FlightMode::kPosition;
+  ArmMode arm_mode_ = ArmMode::kJoints;
   bool have_ref_ = false, have_ik_ = false;
   bool saturated_prev_ = false;
   double reaction_z_ = 0.0;  // [N] last tick's vertical reaction force (world)
