@@ -68,14 +68,16 @@ void bind_kinematics(py::module_& m) {
            py::arg("target"), py::arg("seed"), "(q, status): T_root_tip(q) = target (4, 4)");
 
   py::class_<UrAnalyticIk>(m, "UrAnalyticIk", "Closed-form UR inverse kinematics (up to 8 solutions)")
-      .def(py::init([](std::shared_ptr<RobotModel> model) {
+      .def(py::init([](std::shared_ptr<RobotModel> model, double tolerance) {
              UrAnalyticIk ik;
              std::string why;
              if (!model) throw py::value_error("model is None");
-             raise_if_failed(UrAnalyticIk::from_model(*model, &ik, &why), why);
+             raise_if_failed(UrAnalyticIk::from_model(*model, &ik, &why, tolerance), why);
              return ik;
            }),
-           py::arg("model"))
+           py::arg("model"), py::arg("tolerance") = 1e-9,
+           "Identifies the UR geometry of the model's chain; ValueError saying why when it is not\n"
+           "UR-style within `tolerance` [m, rad] (vendor URDFs round pi/2 to ~1e-10)")
       .def("solve",
            [](const UrAnalyticIk& ik, const Eigen::Matrix4d& target, const Array& seed) {
              const Eigen::Matrix<double, 6, 1> s = vector_arg(seed, 6, "seed");

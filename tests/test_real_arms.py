@@ -134,3 +134,18 @@ def test_panda_says_why_the_closed_form_is_not_used():
     arm_ik = kl.ArmIk(model)
     assert arm_ik.solver() == "numeric"
     assert "6 joints" in arm_ik.analytic_reason()
+
+
+def test_ur_closed_form_refuses_a_non_ur_chain_saying_why():
+    xml = urdf("ur_description/urdf/ur10_robot.urdf").read_text()
+    # Tilt the elbow axis: joints 2 and 3 are no longer parallel.
+    tilted = xml.replace('<origin rpy="0.0 0.0 0.0" xyz="0.0 -0.1719 0.612"/>',
+                         '<origin rpy="0.05 0.0 0.0" xyz="0.0 -0.1719 0.612"/>')
+    assert tilted != xml
+    model = kl.RobotModel.from_urdf(tilted, root="base_link", tip="tool0")
+    with pytest.raises(ValueError, match=r"joint 3 \('elbow_joint'\) axis not parallel to joint 2"):
+        kl.UrAnalyticIk(model)
+    assert kl.UrAnalyticIk(model, tolerance=0.1).deviation > 1e-3  # loosely UR: a seed only
+    arm_ik = kl.ArmIk(model)
+    assert arm_ik.solver() == "numeric"
+    assert "axis not parallel" in arm_ik.analytic_reason()
