@@ -84,6 +84,17 @@ Status KinematicParameters::from_ur_model(const RobotModel& model, const Eigen::
   UrAnalyticIk ik;
   Status s = UrAnalyticIk::from_model(model, &ik, why);
   if (failed(s)) return s;
+  // The calibration form has DH angles = joint positions and the tip at DH frame 6: a UR model
+  // whose joints are mirrored or offset, or whose tip frame differs from DH frame 6 (real UR
+  // URDFs' tool0), would be calibrated silently wrong, so it is refused.
+  const double kExact = 1e-12;
+  if ((ik.joint_sign().array() != 1.0).any() || ik.joint_offset().cwiseAbs().maxCoeff() > kExact ||
+      !ik.tool().isApprox(Eigen::Isometry3d::Identity(), kExact)) {
+    if (why)
+      *why = "calibration: this UR model's joints are mirrored/offset or its tip is not DH frame 6 "
+             "(only models in kiloloop's UR layout are supported by from_ur_model)";
+    return Status::kModelError;
+  }
   KinematicParameters k;
   s = from_dh(ik.parameters().table(), DhConvention::kStandard, tool_point, &k, why);
   if (failed(s)) return s;
