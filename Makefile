@@ -8,7 +8,7 @@ OUT := out
 BUILD_DIR := build/py
 PIP_BUILD_FLAGS := --no-build-isolation --config-settings=cmake.define.KILOLOOP_BUILD_TESTS=ON
 
-.PHONY: demo test bench build system-deps clean
+.PHONY: demo test bench matrix build system-deps clean
 
 demo: build
 	@mkdir -p $(OUT)
@@ -20,6 +20,10 @@ test: build
 
 bench: build
 	$(BIN)/kiloloop bench
+
+# Quadruped robot x scenario x delay table (minutes; not part of `make test`).
+matrix: build
+	$(BIN)/python -m kiloloop.bench.quadruped_matrix bench
 
 system-deps:
 	scripts/setup_system.sh
