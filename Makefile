@@ -9,7 +9,7 @@ OUT := out
 BUILD_DIR := build/py
 PIP_BUILD_FLAGS := --no-build-isolation --config-settings=cmake.define.KILOLOOP_BUILD_TESTS=ON
 
-.PHONY: demo test bench build system-deps clean robot-matrix
+.PHONY: demo test bench build system-deps clean robot-matrix matrix
 
 demo: build
 	@echo "==> demo: the UR5 follows a quintic in MuJoCo (arm-track); plot and log into $(OUT)/"
@@ -25,10 +25,14 @@ test: build
 bench: build
 	$(BIN)/kiloloop bench
 
-# Real robots of example-robot-data from minimal robot files x the scenarios of their family
-# (long: not part of `make test`, which runs a representative subset); output kept in bench/.
+# Real arms of example-robot-data from minimal robot files x the arm scenarios (long: not part
+# of `make test`, which runs a representative subset); output kept in bench/robot_matrix.txt.
 robot-matrix: build
 	$(BIN)/python scripts/robot_matrix.py | tee bench/robot_matrix.txt
+
+# Quadruped robot x scenario x delay table (minutes; not part of `make test`).
+matrix: build
+	$(BIN)/python -m kiloloop.bench.quadruped_matrix bench
 
 system-deps:
 	scripts/setup_system.sh

@@ -357,7 +357,7 @@ int main(int argc, char** argv) {
       for (int j = 0; j < 12; ++j) in.qd[j] = 0.2 * noise(rng);
       in.gyro = 0.02 * Eigen::Vector3d(noise(rng), noise(rng), noise(rng));
       in.accel = Eigen::Vector3d(0, 0, 9.81) + 0.05 * Eigen::Vector3d(noise(rng), noise(rng), noise(rng));
-      in.gait = 1;
+      in.gait = Gait::kTrot;
       in.velocity_command << 0.5, 0.0, 0.0;
     }
     QuadrupedOutput qout;

@@ -31,10 +31,33 @@ void bind_quadruped(py::module_& m) {
       .def_readwrite("fz_max", &StanceForceConfig::fz_max)
       .def_readwrite("max_iterations", &StanceForceConfig::max_iterations);
 
+  py::enum_<Gait>(m, "Gait", "gait the quadruped is asked for")
+      .value("STAND", Gait::kStand)
+      .value("TROT", Gait::kTrot);
+  py::implicitly_convertible<py::int_, Gait>();
+
+  py::enum_<KneeDirection>(m, "KneeDirection", "which way a leg's knee bends")
+      .value("AUTO", KneeDirection::kAuto)
+      .value("BACKWARD", KneeDirection::kBackward)
+      .value("FORWARD", KneeDirection::kForward);
+
   py::class_<QuadrupedConfig>(m, "QuadrupedConfig")
       .def(py::init<>())
       .def_readwrite("trunk_link", &QuadrupedConfig::trunk_link)
       .def_readwrite("feet", &QuadrupedConfig::feet)
+      .def_readwrite("knees", &QuadrupedConfig::knees)
+      .def_readwrite("stand_extension", &QuadrupedConfig::stand_extension)
+      .def_readwrite("crouch_extension", &QuadrupedConfig::crouch_extension)
+      .def_readwrite("contact_force_on", &QuadrupedConfig::contact_force_on)
+      .def_readwrite("contact_force_off", &QuadrupedConfig::contact_force_off)
+      .def_readwrite("fz_min", &QuadrupedConfig::fz_min)
+      .def_readwrite("fz_max", &QuadrupedConfig::fz_max)
+      .def_readwrite("swing_frequency", &QuadrupedConfig::swing_frequency)
+      .def_readwrite("swing_damping", &QuadrupedConfig::swing_damping)
+      .def_readwrite("swing_delay_margin", &QuadrupedConfig::swing_delay_margin)
+      .def_readwrite("trunk_delay_margin", &QuadrupedConfig::trunk_delay_margin)
+      .def_readwrite("safe_stiffness", &QuadrupedConfig::safe_stiffness)
+      .def_readwrite("safe_time_constant", &QuadrupedConfig::safe_time_constant)
       .def_readwrite("dt", &QuadrupedConfig::dt)
       .def_readwrite("foot_radius", &QuadrupedConfig::foot_radius)
       .def_readwrite("body_height", &QuadrupedConfig::body_height)
@@ -50,28 +73,32 @@ void bind_quadruped(py::module_& m) {
       .def_readwrite("raibert_gain", &QuadrupedConfig::raibert_gain)
       .def_readwrite("touchdown_depth", &QuadrupedConfig::touchdown_depth)
       .def_readwrite("foothold_shift", &QuadrupedConfig::foothold_shift)
+      .def_readwrite("swing_feedforward", &QuadrupedConfig::swing_feedforward)
       .def_readwrite("swing_kp", &QuadrupedConfig::swing_kp)
       .def_readwrite("swing_kd", &QuadrupedConfig::swing_kd)
       .def_readwrite("max_acceleration", &QuadrupedConfig::max_acceleration)
       .def_readwrite("actuation_delay", &QuadrupedConfig::actuation_delay)
+      .def_readwrite("predict_in_flight", &QuadrupedConfig::predict_in_flight)
       .def_readwrite("trust_ramp", &QuadrupedConfig::trust_ramp)
       .def_readwrite("load_ramp", &QuadrupedConfig::load_ramp)
       .def_readwrite("max_position_lag", &QuadrupedConfig::max_position_lag)
       .def_readwrite("swing_reaction_feedforward", &QuadrupedConfig::swing_reaction_feedforward)
       .def_readwrite("max_tilt", &QuadrupedConfig::max_tilt)
-      .def_readwrite("stand_pose", &QuadrupedConfig::stand_pose)
-      .def_readwrite("crouch", &QuadrupedConfig::crouch)
       .def_readwrite("safe_kp", &QuadrupedConfig::safe_kp)
       .def_readwrite("safe_kd", &QuadrupedConfig::safe_kd)
       .def_readwrite("max_measurement_age", &QuadrupedConfig::max_measurement_age)
       .def_readwrite("mass", &QuadrupedConfig::mass)
-      .def_readwrite("inertia_diag", &QuadrupedConfig::inertia_diag);
+      .def_readwrite("inertia_diag", &QuadrupedConfig::inertia_diag)
+      .def("validate", [](const QuadrupedConfig& c) {
+        std::string why;
+        raise_if_failed(validate(c, &why), why);
+      }, "raises ValueError with the reason when a setting is out of range");
 
   py::class_<QuadrupedInput> in(m, "QuadrupedInput");
   in.def(py::init<>())
       .def_readwrite("t", &QuadrupedInput::t)
       .def_readwrite("stamp", &QuadrupedInput::stamp)
-      .def_readwrite("gait", &QuadrupedInput::gait, "0 stand, 1 trot")
+      .def_readwrite("gait", &QuadrupedInput::gait, "Gait.STAND or Gait.TROT")
       .def_readwrite("use_ground_truth", &QuadrupedInput::use_ground_truth);
   vector_field(in, "q", &QuadrupedInput::q, "(12) [rad] encoders, controller joint order");
   vector_field(in, "qd", &QuadrupedInput::qd, "(12) [rad/s]");
@@ -113,7 +140,20 @@ void bind_quadruped(py::module_& m) {
       .def_property_readonly("joint_names", &QuadrupedController::joint_names)
       .def_property_readonly("effort_limit", &QuadrupedController::effort_limit)
       .def_property_readonly("mass", &QuadrupedController::mass)
-      .def("reset_safe_stop", &QuadrupedController::reset_safe_stop);
+      .def_property_readonly("config", &QuadrupedController::config,
+                             "the configuration with everything derived filled in")
+      .def_property_readonly("stand_pose", &QuadrupedController::stand_pose, "(12) [rad] derived")
+      .def_property_readonly("crouch_pose", &QuadrupedController::crouch_pose, "(12) [rad] safe stop")
+      .def_property_readonly("com", &QuadrupedController::com, "(3) [m] CoM standing, trunk frame")
+      .def_property_readonly("inertia", &QuadrupedController::inertia,
+                             "(3, 3) [kg m^2] composite inertia about the CoM, trunk axes")
+      .def("reset_safe_stop", &QuadrupedController::reset_safe_stop)
+      .def("foot_position",
+           [](const QuadrupedController& c, int leg, const Eigen::Vector3d& q) {
+             if (leg < 0 || leg >= QuadrupedController::kLegs) throw py::index_error("leg: 0..3");
+             return Eigen::Vector3d(c.leg(leg).foot_position(q));
+           },
+           py::arg("leg"), py::arg("q"), "(3) [m] foot centre in the trunk frame for the leg's 3 joints");
 }
 
 }  // namespace kiloloop::py_glue

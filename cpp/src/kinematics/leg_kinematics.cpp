@@ -3,18 +3,29 @@
 #include <cmath>
 
 #include <kdl/chain.hpp>
+#include <kdl/chainfksolverpos_recursive.hpp>
+#include <kdl/jntarray.hpp>
 
 namespace kiloloop {
 namespace {
 
-constexpr double kGeomTol = 1e-9;  // [m] URDF numbers are exact; anything else is a different layout
+constexpr double kAxisTol = 1e-6;  // URDF axes are exact; anything else is a different layout
+constexpr double kFkTol = 1e-9;    // [m] closed form vs KDL at test configurations
 
 Eigen::Vector3d to_eigen(const KDL::Vector& v) { return {v.x(), v.y(), v.z()}; }
+
+// +1 / -1 when a is +-e, 0 otherwise.
+double axis_sign(const Eigen::Vector3d& a, const Eigen::Vector3d& e) {
+  if ((a - e).norm() < kAxisTol) return 1.0;
+  if ((a + e).norm() < kAxisTol) return -1.0;
+  return 0.0;
+}
 
 }  // namespace
 
 Status leg_geometry_from_model(const RobotModel& model, const std::string& trunk,
-                               const std::string& foot, LegGeometry* out, std::string* why) {
+                               const std::string& foot, LegGeometry* out, std::string* why,
+                               KneeDirection knee) {
   auto fail = [&](const std::string& msg) {
     if (why) *why = "leg '" + foot + "': " + msg;
     return Status::kModelError;
@@ -40,51 +51,70 @@ Status leg_geometry_from_model(const RobotModel& model, const std::string& trunk
   if (j != 3) return fail("expected 3 joints, found " + std::to_string(j));
   const Eigen::Vector3d tip = to_eigen(T.p);
   const Eigen::Vector3d ex = Eigen::Vector3d::UnitX(), ey = Eigen::Vector3d::UnitY();
-  if ((axes[0] - ex).norm() > kGeomTol || (axes[1] - ey).norm() > kGeomTol ||
-      (axes[2] - ey).norm() > kGeomTol)
-    return fail("joint axes must be x, y, y at q = 0");
+  LegGeometry g;
+  g.sign = Eigen::Vector3d(axis_sign(axes[0], ex), axis_sign(axes[1], ey), axis_sign(axes[2], ey));
+  if ((g.sign.array() == 0.0).any())
+    return fail("joint axes must be +-x, +-y, +-y (abduction, hip pitch, knee) at q = 0");
   const Eigen::Vector3d abd_to_pitch = points[1] - points[0], pitch_to_knee = points[2] - points[1],
                         knee_to_foot = tip - points[2];
-  if (std::abs(pitch_to_knee.x()) > kGeomTol || std::abs(pitch_to_knee.y()) > kGeomTol ||
-      std::abs(knee_to_foot.x()) > kGeomTol || std::abs(knee_to_foot.y()) > kGeomTol ||
-      std::abs(abd_to_pitch.z()) > kGeomTol)
-    return fail("knee and foot must lie straight below the hip pitch axis at q = 0");
-  LegGeometry g;
-  // The abduction axis is the x line through points[0]; shift its point to the pitch joint's x
-  // so that l_abd is purely lateral.
+  // The abduction axis is the x line through points[0]; its point moves to the pitch joint's x.
+  // Every y offset after it lies along the pitch axis and only shifts the leg plane sideways.
   g.abd_origin = points[0] + ex * abd_to_pitch.x();
-  g.l_abd = abd_to_pitch.y();
-  g.l_thigh = -pitch_to_knee.z();
-  g.l_shank = -knee_to_foot.z();
-  if (!(g.l_thigh > 0) || !(g.l_shank > 0)) return fail("thigh and shank must point down at q = 0");
+  g.l_abd = abd_to_pitch.y() + pitch_to_knee.y() + knee_to_foot.y();
+  g.h_abd = abd_to_pitch.z();
+  g.l_thigh = std::hypot(pitch_to_knee.x(), pitch_to_knee.z());
+  g.l_shank = std::hypot(knee_to_foot.x(), knee_to_foot.z());
+  if (!(g.l_thigh > 1e-4) || !(g.l_shank > 1e-4)) return fail("thigh and shank must have length");
+  // (-l sin a, -l cos a) is the segment at q = 0.
+  g.a_thigh = std::atan2(-pitch_to_knee.x(), -pitch_to_knee.z());
+  g.a_shank = std::atan2(-knee_to_foot.x(), -knee_to_foot.z());
   for (int i = 0; i < 3; ++i) {
     const auto& names_all = model.joint_names();
-    int idx = -1;
     for (int k = 0; k < model.nq(); ++k)
-      if (names_all[k] == names[i]) idx = k;
-    if (idx >= 0) {
-      g.lower[i] = model.lower()[idx];
-      g.upper[i] = model.upper()[idx];
-    }
+      if (names_all[k] == names[i]) {
+        g.lower[i] = model.lower()[k];
+        g.upper[i] = model.upper()[k];
+      }
+  }
+  // Bend angle beta = q2 (internal sign) + a_shank - a_thigh: beta < 0 knee backward.
+  if (knee == KneeDirection::kAuto) {
+    const double b0 = g.sign[2] * g.lower[2] + g.a_shank - g.a_thigh;
+    const double b1 = g.sign[2] * g.upper[2] + g.a_shank - g.a_thigh;
+    knee = std::min(b0, b1) >= -1e-9 ? KneeDirection::kForward : KneeDirection::kBackward;
+  }
+  g.knee = knee;
+  // The closed form must reproduce KDL's FK (catches layouts the algebra above cannot express).
+  const LegKinematics leg(g);
+  KDL::ChainFkSolverPos_recursive fk(chain);
+  KDL::JntArray qk(3);
+  const double probes[3][3] = {{0.3, 0.7, -1.2}, {-0.4, -0.5, 1.1}, {0.1, 1.9, 0.4}};
+  for (const auto& p : probes) {
+    for (int k = 0; k < 3; ++k) qk(k) = p[k];
+    KDL::Frame Tq;
+    fk.JntToCart(qk, Tq);
+    if ((leg.foot_position(Eigen::Vector3d(p[0], p[1], p[2])) - to_eigen(Tq.p)).norm() > kFkTol)
+      return fail("layout not supported: the abduction / pitch / knee closed form does not match "
+                  "the URDF's kinematics (a pitch or knee axis not parallel to the hip pitch axis?)");
   }
   *out = g;
   return Status::kOk;
 }
 
-Eigen::Vector3d LegKinematics::foot_position(const Eigen::Vector3d& q) const noexcept {
-  const double s1 = std::sin(q[1]), c1 = std::cos(q[1]);
-  const double s12 = std::sin(q[1] + q[2]), c12 = std::cos(q[1] + q[2]);
+Eigen::Vector3d LegKinematics::foot_position(const Eigen::Vector3d& qj) const noexcept {
+  const Eigen::Vector3d q = qj.cwiseProduct(g_.sign);
+  const double p1 = q[1] + g_.a_thigh, p12 = q[1] + q[2] + g_.a_shank;
   // In the leg plane (abduction frame): x forward, z down the leg.
-  const double x = -g_.l_thigh * s1 - g_.l_shank * s12;
-  const double z = -g_.l_thigh * c1 - g_.l_shank * c12;
+  const double x = -g_.l_thigh * std::sin(p1) - g_.l_shank * std::sin(p12);
+  const double z = g_.h_abd - g_.l_thigh * std::cos(p1) - g_.l_shank * std::cos(p12);
   const double s0 = std::sin(q[0]), c0 = std::cos(q[0]);
   return g_.abd_origin + Eigen::Vector3d(x, g_.l_abd * c0 - z * s0, g_.l_abd * s0 + z * c0);
 }
 
-Eigen::Matrix3d LegKinematics::jacobian(const Eigen::Vector3d& q) const noexcept {
-  const double s1 = std::sin(q[1]), c1 = std::cos(q[1]);
-  const double s12 = std::sin(q[1] + q[2]), c12 = std::cos(q[1] + q[2]);
-  const double z = -g_.l_thigh * c1 - g_.l_shank * c12;
+Eigen::Matrix3d LegKinematics::jacobian(const Eigen::Vector3d& qj) const noexcept {
+  const Eigen::Vector3d q = qj.cwiseProduct(g_.sign);
+  const double p1 = q[1] + g_.a_thigh, p12 = q[1] + q[2] + g_.a_shank;
+  const double s1 = std::sin(p1), c1 = std::cos(p1), s12 = std::sin(p12), c12 = std::cos(p12);
+  const double z = g_.h_abd - g_.l_thigh * c1 - g_.l_shank * c12;
   const double dx_dq1 = -g_.l_thigh * c1 - g_.l_shank * c12, dx_dq2 = -g_.l_shank * c12;
   const double dz_dq1 = g_.l_thigh * s1 + g_.l_shank * s12, dz_dq2 = g_.l_shank * s12;
   const double s0 = std::sin(q[0]), c0 = std::cos(q[0]);
@@ -98,7 +128,7 @@ Eigen::Matrix3d LegKinematics::jacobian(const Eigen::Vector3d& q) const noexcept
   J(0, 2) = dx_dq2;
   J(1, 2) = -dz_dq2 * s0;
   J(2, 2) = dz_dq2 * c0;
-  return J;
+  return J * g_.sign.asDiagonal();
 }
 
 Status LegKinematics::inverse(const Eigen::Vector3d& foot, Eigen::Vector3d& q) const noexcept {
@@ -108,19 +138,21 @@ Status LegKinematics::inverse(const Eigen::Vector3d& foot, Eigen::Vector3d& q) c
   const double yz2 = r.y() * r.y() + r.z() * r.z();
   const double z2 = yz2 - g_.l_abd * g_.l_abd;
   if (z2 <= 0.0) return Status::kUnreachable;
-  const double z = -std::sqrt(z2);
-  const double q0 = std::atan2(r.z(), r.y()) - std::atan2(z, g_.l_abd);
-  // Knee from the distance hip pitch axis -> foot in the leg plane (law of cosines).
-  const double x = r.x();
+  const double zz = -std::sqrt(z2);  // abduction-frame z of the foot
+  const double q0 = std::atan2(r.z(), r.y()) - std::atan2(zz, g_.l_abd);
+  // Knee bend from the distance hip pitch axis -> foot in the leg plane (law of cosines).
+  const double x = r.x(), z = zz - g_.h_abd;
   const double c2 = (x * x + z * z - g_.l_thigh * g_.l_thigh - g_.l_shank * g_.l_shank) /
                     (2.0 * g_.l_thigh * g_.l_shank);
   if (c2 > 1.0 || c2 < -1.0) return Status::kUnreachable;
-  const double q2 = -std::acos(c2);
-  const double a = g_.l_thigh + g_.l_shank * std::cos(q2), b = g_.l_shank * std::sin(q2);
-  const double q1 = std::atan2(-x, -z) - std::atan2(b, a);
-  // Wrap the abduction angle into (-pi, pi].
-  const double q0w = std::atan2(std::sin(q0), std::cos(q0));
-  const Eigen::Vector3d sol(q0w, q1, q2);
+  const double beta = g_.knee == KneeDirection::kForward ? std::acos(c2) : -std::acos(c2);
+  const double a = g_.l_thigh + g_.l_shank * std::cos(beta), b = g_.l_shank * std::sin(beta);
+  const double p1 = std::atan2(-x, -z) - std::atan2(b, a);
+  // Back to joint angles: internal q1 = p1 - a_thigh, q2 = beta - (a_shank - a_thigh), each
+  // wrapped into (-pi, pi], then the axis signs.
+  auto wrap = [](double v) { return std::atan2(std::sin(v), std::cos(v)); };
+  const Eigen::Vector3d internal(wrap(q0), wrap(p1 - g_.a_thigh), wrap(beta - g_.a_shank + g_.a_thigh));
+  const Eigen::Vector3d sol = internal.cwiseProduct(g_.sign);
   if ((sol.array() < g_.lower.array()).any() || (sol.array() > g_.upper.array()).any())
     return Status::kUnreachable;
   q = sol;

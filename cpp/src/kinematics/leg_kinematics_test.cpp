@@ -79,6 +79,64 @@ TEST(LegKinematics, InverseRoundTripsAndReportsUnreachable) {
   EXPECT_EQ(scope.count(), 0u);
 }
 
+// One leg of an unusual layout: the pitch joint below and behind the abduction axis, the knee
+// offset along the hip pitch axis and in x, the foot off the shank line, the knee axis along -y
+// and bending forward. FK and Jacobian match KDL; IK round-trips with the forward knee.
+const char* kOddLeg = R"(<robot name="odd">
+  <link name="trunk"><inertial><mass value="1"/><inertia ixx="0.01" iyy="0.01" izz="0.01" ixy="0" ixz="0" iyz="0"/></inertial></link>
+  <joint name="abd" type="revolute"><parent link="trunk"/><child link="hip"/><origin xyz="0.2 0.05 0.01"/>
+    <axis xyz="1 0 0"/><limit lower="-1" upper="1" effort="5" velocity="10"/></joint>
+  <link name="hip"><inertial><mass value="0.1"/><inertia ixx="1e-4" iyy="1e-4" izz="1e-4" ixy="0" ixz="0" iyz="0"/></inertial></link>
+  <joint name="pitch" type="revolute"><parent link="hip"/><child link="thigh"/><origin xyz="-0.01 0.03 -0.02"/>
+    <axis xyz="0 1 0"/><limit lower="-3" upper="3" effort="5" velocity="10"/></joint>
+  <link name="thigh"><inertial><mass value="0.1"/><inertia ixx="1e-4" iyy="1e-4" izz="1e-4" ixy="0" ixz="0" iyz="0"/></inertial></link>
+  <joint name="knee" type="revolute"><parent link="thigh"/><child link="shank"/><origin xyz="0.01 0.02 -0.15"/>
+    <axis xyz="0 -1 0"/><limit lower="-2.6" upper="-0.1" effort="5" velocity="10"/></joint>
+  <link name="shank"><inertial><mass value="0.05"/><inertia ixx="1e-4" iyy="1e-4" izz="1e-4" ixy="0" ixz="0" iyz="0"/></inertial></link>
+  <joint name="foot_fixed" type="fixed"><parent link="shank"/><child link="foot"/><origin xyz="-0.005 0.01 -0.16"/></joint>
+  <link name="foot"/>
+</robot>)";
+
+TEST(LegKinematics, AnyAbductionPitchKneeLayout) {
+  RobotModel model;
+  std::string why;
+  ASSERT_EQ(model_from_urdf_string(kOddLeg, "", "", &model, &why), Status::kOk) << why;
+  LegGeometry g;
+  ASSERT_EQ(leg_geometry_from_model(model, "trunk", "foot", &g, &why), Status::kOk) << why;
+  EXPECT_NEAR(g.l_abd, 0.06, 1e-12);  // hip, knee and foot offsets along the pitch axis
+  EXPECT_EQ(g.sign[2], -1.0);
+  EXPECT_EQ(g.knee, KneeDirection::kForward);  // -y axis with negative limits: bends forward
+  const LegKinematics leg(g);
+  KDL::Chain chain;
+  ASSERT_TRUE(model.tree().getChain("trunk", "foot", chain));
+  KDL::ChainFkSolverPos_recursive fk(chain);
+  KDL::JntArray qk(3);
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  int round_trips = 0;
+  for (int k = 0; k < 300; ++k) {
+    const Eigen::Vector3d q(0.5 * u(rng), 0.6 * u(rng), -1.3 + 1.1 * u(rng));
+    for (int j = 0; j < 3; ++j) qk(j) = q[j];
+    KDL::Frame T;
+    fk.JntToCart(qk, T);
+    const Eigen::Vector3d p = leg.foot_position(q);
+    ASSERT_LT((p - Eigen::Vector3d(T.p.x(), T.p.y(), T.p.z())).norm(), 1e-12);
+    const Eigen::Matrix3d J = leg.jacobian(q);
+    for (int j = 0; j < 3; ++j) {
+      Eigen::Vector3d qh = q;
+      qh[j] += 1e-7;
+      EXPECT_LT(((leg.foot_position(qh) - p) / 1e-7 - J.col(j)).norm(), 1e-5);
+    }
+    Eigen::Vector3d sol = Eigen::Vector3d::Zero();
+    if (leg.inverse(p, sol) == Status::kOk) {
+      EXPECT_LT((leg.foot_position(sol) - p).norm(), 1e-9);
+      EXPECT_LT((sol - q).norm(), 1e-9) << q.transpose();
+      ++round_trips;
+    }
+  }
+  EXPECT_GT(round_trips, 250);
+}
+
 TEST(LegKinematics, RejectsAnArmChain) {
   RobotModel ur5;
   std::string why;

@@ -3,7 +3,12 @@
 #include <algorithm>
 #include <cmath>
 
+#include <Eigen/Cholesky>
 #include <Eigen/LU>
+#include <kdl/chaindynparam.hpp>
+#include <kdl/jntspaceinertiamatrix.hpp>
+#include <utility>
+#include <vector>
 
 #include "kiloloop/trajectory/swing_trajectory.hpp"
 
@@ -33,6 +38,42 @@ double approach(double from, double to, double step) {
 
 }  // namespace
 
+Status validate(const QuadrupedConfig& c, std::string* why) {
+  auto fail = [&](const char* msg) {
+    if (why) *why = std::string("quadruped config: ") + msg;
+    return Status::kInvalidConfig;
+  };
+  if (!(c.dt > 0) || !(c.max_tilt > 0) || !(c.max_measurement_age > 0))
+    return fail("dt, max_tilt, max_measurement_age must be > 0");
+  if (!(c.body_height >= 0) || !(c.foot_radius >= 0) || !(c.swing_height >= 0) ||
+      !(c.touchdown_depth >= 0) || !(c.raibert_gain >= 0) || !(c.mass >= 0) ||
+      !(c.inertia_diag.array() >= 0).all() || !c.inertia_diag.allFinite())
+    return fail("body_height, foot_radius, swing_height, touchdown_depth, raibert_gain, mass, "
+                "inertia_diag must be >= 0 (0: derived)");
+  if (!(c.stand_extension > 0 && c.stand_extension < 1) ||
+      !(c.crouch_extension > 0 && c.crouch_extension <= c.stand_extension))
+    return fail("need 0 < crouch_extension <= stand_extension < 1");
+  if (!(c.gait.period >= 0)) return fail("gait.period must be >= 0 (0: derived)");
+  if (!(c.trust_ramp >= 0) || !(c.load_ramp >= 0) || !(c.max_position_lag >= 0) ||
+      !(c.actuation_delay >= 0) || !(c.max_acceleration > 0))
+    return fail("trust_ramp, load_ramp, max_position_lag, actuation_delay >= 0; max_acceleration > 0");
+  if (!(c.contact_force_on > c.contact_force_off) || !(c.contact_force_off >= 0) ||
+      !(c.fz_min >= 0) || !(c.fz_max > c.fz_min))
+    return fail("weight fractions: need contact_force_on > contact_force_off >= 0, fz_max > fz_min >= 0");
+  if (!(c.trunk_delay_margin > 0)) return fail("trunk_delay_margin must be > 0");
+  if (!(c.swing_frequency > 0) || !(c.swing_damping >= 0) || !(c.swing_delay_margin > 0) ||
+      !(c.swing_kp.array() >= 0).all() || !(c.swing_kd.array() >= 0).all())
+    return fail("swing_frequency, swing_delay_margin > 0; swing_damping, swing_kp, swing_kd >= 0");
+  if (!(c.safe_stiffness > 0) || !(c.safe_time_constant >= 0) || !(c.safe_kp >= 0) || !(c.safe_kd >= 0))
+    return fail("safe_stiffness > 0; safe_time_constant, safe_kp, safe_kd >= 0");
+  if (!c.kp_position.allFinite() || !c.kd_velocity.allFinite() || !c.kp_orientation.allFinite() ||
+      !c.kd_angular.allFinite() || !(c.kp_position.array() >= 0).all() ||
+      !(c.kd_velocity.array() >= 0).all() || !(c.kp_orientation.array() >= 0).all() ||
+      !(c.kd_angular.array() >= 0).all())
+    return fail("trunk gains must be finite and >= 0");
+  return Status::kOk;
+}
+
 Status QuadrupedController::configure(const QuadrupedConfig& config, RobotModelPtr model,
                                       QuadrupedController* out, std::string* why) {
   auto fail = [&](const std::string& msg, Status s = Status::kInvalidConfig) {
@@ -40,21 +81,21 @@ Status QuadrupedController::configure(const QuadrupedConfig& config, RobotModelP
     return s;
   };
   if (!model) return fail("model is null", Status::kModelError);
-  if (!(config.dt > 0) || !(config.body_height > 0) || !(config.trust_ramp >= 0) ||
-      !(config.load_ramp >= 0) || !(config.max_position_lag >= 0) || !(config.swing_height >= 0) ||
-      !(config.max_tilt > 0) || !(config.max_measurement_age > 0) || !(config.foot_radius >= 0))
-    return fail("quadruped config: dt, body_height, max_tilt, max_measurement_age must be > 0; "
-                "swing_height, foot_radius, trust_ramp, load_ramp, max_position_lag >= 0");
+  if (const Status s = validate(config, why); failed(s)) return s;
+  if (model->tree().getSegments().count(config.trunk_link) == 0)
+    return fail("trunk_link: no link named '" + config.trunk_link + "' in the model", Status::kModelError);
   QuadrupedController c;
   c.cfg_ = config;
+  QuadrupedConfig& cfg = c.cfg_;  // resolved in place below
   c.model_ = model;
   for (int i = 0; i < kLegs; ++i) {
     LegGeometry g;
-    const Status s = leg_geometry_from_model(*model, config.trunk_link, config.feet[i], &g, why);
+    Status s = leg_geometry_from_model(*model, config.trunk_link, config.feet[i], &g, why, config.knees[i]);
     if (failed(s)) return s;
     c.legs_[i] = LegKinematics(g);
-    const Status sg = LegGravity::configure(*model, config.trunk_link, config.feet[i], &c.leg_gravity_[i], why);
-    if (failed(sg)) return sg;
+    cfg.knees[i] = g.knee;
+    s = LegGravity::configure(*model, config.trunk_link, config.feet[i], &c.leg_gravity_[i], why);
+    if (failed(s)) return s;
     KDL::Chain chain;
     model->tree().getChain(config.trunk_link, config.feet[i], chain);
     int j = 0;
@@ -68,48 +109,150 @@ Status QuadrupedController::configure(const QuadrupedConfig& config, RobotModelP
       ++j;
     }
   }
-  // Mass and inertia for the trunk wrench: the whole robot's mass; the trunk's own inertia plus
-  // each leg's mass lumped at mid-leg (legs are light, their exact distribution matters little).
-  c.mass_ = config.mass > 0 ? config.mass : model->total_mass();
-  const auto trunk = model->tree().getSegment(config.trunk_link);
-  KDL::RigidBodyInertia I = GetTreeElementSegment(trunk->second).getInertia();
-  const KDL::RotationalInertia Ic = I.RefPoint(I.getCOG()).getRotationalInertia();
-  Eigen::Matrix3d inertia = Eigen::Map<const Eigen::Matrix3d>(Ic.data);
-  const double leg_mass = (c.mass_ - I.getMass()) / kLegs;
-  // Whole-robot CoM in the trunk frame with every leg in the standing pose (the legs' mass sits
-  // behind the hips with knees pointing back: the wrench must act about this point).
-  Eigen::Vector3d moment = I.getMass() * Eigen::Vector3d(I.getCOG().x(), I.getCOG().y(), I.getCOG().z());
-  double mass_sum = I.getMass();
-  for (int i = 0; i < kLegs; ++i) {
-    KDL::Chain chain;
-    model->tree().getChain(config.trunk_link, config.feet[i], chain);
-    KDL::Frame T = KDL::Frame::Identity();
-    int j = 0;
-    for (const auto& seg : chain.segments) {
-      const double qj = seg.getJoint().getType() == KDL::Joint::None ? 0.0 : config.stand_pose[j++];
-      T = T * seg.pose(qj);
-      const KDL::Vector cog = T * seg.getInertia().getCOG();
-      moment += seg.getInertia().getMass() * Eigen::Vector3d(cog.x(), cog.y(), cog.z());
-      mass_sum += seg.getInertia().getMass();
+  // Feet order FL, FR, RL, RR checked against the geometry: a swapped pair would turn the trot
+  // into a pace (or worse) without any other symptom.
+  {
+    const char* names[kLegs] = {"front-left", "front-right", "rear-left", "rear-right"};
+    const double sx[kLegs] = {1, 1, -1, -1}, sy[kLegs] = {1, -1, 1, -1};
+    Eigen::Vector2d centre = Eigen::Vector2d::Zero();
+    for (const auto& leg : c.legs_) centre += 0.25 * leg.geometry().abd_origin.head<2>();
+    for (int i = 0; i < kLegs; ++i) {
+      const LegGeometry& g = c.legs_[i].geometry();
+      const Eigen::Vector2d hip = Eigen::Vector2d(g.abd_origin.x(), g.abd_origin.y() + g.l_abd) - centre;
+      if (hip.x() * sx[i] <= 0 || hip.y() * sy[i] <= 0)
+        return fail("feet: '" + config.feet[i] + "' is listed as " + names[i] +
+                        " but its hip lies at x = " + std::to_string(hip.x()) + " m, y = " +
+                        std::to_string(hip.y()) + " m from the hips' centre (trunk frame: x forward, "
+                        "y left); list the feet as front-left, front-right, rear-left, rear-right",
+                    Status::kModelError);
     }
   }
-  c.com_ = moment / mass_sum;
-  for (const auto& leg : c.legs_) {
-    const LegGeometry& g = leg.geometry();
-    const Eigen::Vector3d r = g.abd_origin + Eigen::Vector3d(0, g.l_abd, -0.5 * g.l_thigh);
-    inertia += leg_mass * (r.squaredNorm() * Eigen::Matrix3d::Identity() - r * r.transpose());
+  // Standing height: each foot stand_extension of its leg's length straight below its hip pitch
+  // axis (mean over the legs), unless given.
+  auto hip_z = [](const LegGeometry& g) { return g.abd_origin.z() + g.h_abd; };
+  if (cfg.body_height == 0) {
+    double h = 0;
+    for (const auto& leg : c.legs_)
+      h += 0.25 * (cfg.stand_extension * leg.geometry().length() - hip_z(leg.geometry()));
+    cfg.body_height = h + cfg.foot_radius;
   }
-  c.inertia_ = config.inertia_diag.isZero() ? inertia : Eigen::Matrix3d(config.inertia_diag.asDiagonal());
-  if (failed(c.gait_.configure(config.gait))) return fail("gait: need period > 0, 0.5 < duty < 1");
-  if (!(config.contact.force_on > config.contact.force_off))
-    return fail("contact: force_on must exceed force_off");
-  c.contacts_.configure(config.contact);
-  EstimatorConfig est = config.estimator;
-  est.dt = config.dt;
+  // Standing and crouch poses: IK of the feet below the hips (crouch raised until the limits allow).
+  for (int i = 0; i < kLegs; ++i) {
+    const LegGeometry& g = c.legs_[i].geometry();
+    const Eigen::Vector3d under_hip(g.abd_origin.x(), g.abd_origin.y() + g.l_abd, 0.0);
+    Eigen::Vector3d q = Eigen::Vector3d::Zero();
+    const Eigen::Vector3d stand = under_hip - Eigen::Vector3d(0, 0, cfg.body_height - cfg.foot_radius);
+    if (failed(c.legs_[i].inverse(stand, q)))
+      return fail("body_height " + std::to_string(cfg.body_height) + " m: leg '" + config.feet[i] +
+                      "' cannot stand there (out of reach or joint limits)",
+                  Status::kInvalidConfig);
+    c.stand_q_.segment<3>(3 * i) = q;
+    c.crouch_q_.segment<3>(3 * i) = q;
+    for (double e = cfg.crouch_extension; e < cfg.stand_extension; e += 0.02) {
+      Eigen::Vector3d qc = q;
+      const Eigen::Vector3d p = under_hip + Eigen::Vector3d(0, 0, hip_z(g) - e * g.length());
+      if (ok(c.legs_[i].inverse(p, qc))) {
+        c.crouch_q_.segment<3>(3 * i) = qc;
+        break;
+      }
+    }
+  }
+  c.mass_ = cfg.mass > 0 ? cfg.mass : model->total_mass();
+  cfg.mass = c.mass_;
+  // Composite rigid-body inertia of the whole tree in the standing pose (dummy links above the
+  // trunk included): each link's own inertia moved by the parallel-axis theorem (KDL's
+  // frame * inertia), summed in the root frame, then expressed in the trunk frame.
+  {
+    KDL::RigidBodyInertia total = KDL::RigidBodyInertia::Zero();
+    KDL::Frame T_root_trunk = KDL::Frame::Identity();
+    std::vector<std::pair<KDL::SegmentMap::const_iterator, KDL::Frame>> stack;
+    stack.emplace_back(model->tree().getRootSegment(), KDL::Frame::Identity());
+    while (!stack.empty()) {
+      const auto [el, T] = stack.back();
+      stack.pop_back();
+      total = total + T * GetTreeElementSegment(el->second).getInertia();
+      if (el->first == config.trunk_link) T_root_trunk = T;
+      for (const auto& child : GetTreeElementChildren(el->second)) {
+        const KDL::Segment& seg = GetTreeElementSegment(child->second);
+        double q = 0.0;
+        const std::string& jn = seg.getJoint().getName();
+        for (int k = 0; k < 12; ++k)
+          if (seg.getJoint().getType() != KDL::Joint::None && c.joint_names_[k] == jn) q = c.stand_q_[k];
+        stack.emplace_back(child, T * seg.pose(q));
+      }
+    }
+    total = T_root_trunk.Inverse() * total;
+    const KDL::Vector cog = total.getCOG();
+    c.com_ = Eigen::Vector3d(cog.x(), cog.y(), cog.z());
+    const KDL::RotationalInertia Ic = total.RefPoint(cog).getRotationalInertia();
+    c.inertia_ = Eigen::Map<const Eigen::Matrix3d>(Ic.data);
+    if (!cfg.inertia_diag.isZero()) c.inertia_ = cfg.inertia_diag.asDiagonal();
+    cfg.inertia_diag = c.inertia_.diagonal();
+  }
+  // Sizes that scale with the leg.
+  double leg_length = 0;
+  for (const auto& leg : c.legs_) leg_length += 0.25 * leg.geometry().length();
+  if (cfg.swing_height == 0) cfg.swing_height = 0.16 * leg_length;
+  if (cfg.touchdown_depth == 0) cfg.touchdown_depth = 0.02 * leg_length;
+  if (cfg.raibert_gain == 0) cfg.raibert_gain = 0.75 * std::sqrt(cfg.body_height / kGravity);
+  if (cfg.gait.period == 0) cfg.gait.period = 2.4 * std::sqrt(leg_length / kGravity);
+  // Delay bounds every loop's bandwidth: a natural frequency above margin / (delay + dt) is
+  // lowered to it, its damping ratio kept (kp scales with w^2, kd with w).
+  const double t_loop = cfg.actuation_delay + cfg.dt;
+  auto cap = [](double& kp, double& kd, double inertia, double w_max) {
+    const double w = std::sqrt(kp / inertia);
+    if (w > w_max) {
+      kp *= (w_max / w) * (w_max / w);
+      kd *= w_max / w;
+    }
+  };
+  for (int j = 0; j < 3; ++j) {
+    cap(cfg.kp_position[j], cfg.kd_velocity[j], 1.0, cfg.trunk_delay_margin / t_loop);
+    cap(cfg.kp_orientation[j], cfg.kd_angular[j], 1.0, cfg.trunk_delay_margin / t_loop);
+  }
+  // Swing PD: kp = I w^2, kd = 2 zeta I w per joint, I the leg's joint-space inertia diagonal at
+  // the standing pose (mean over the legs).
+  {
+    Eigen::Vector3d inertia = Eigen::Vector3d::Zero();
+    for (int i = 0; i < kLegs; ++i) {
+      KDL::Chain chain;
+      model->tree().getChain(config.trunk_link, config.feet[i], chain);
+      KDL::ChainDynParam dyn(chain, KDL::Vector::Zero());
+      KDL::JntArray q(3);
+      KDL::JntSpaceInertiaMatrix H(3);
+      for (int k = 0; k < 3; ++k) q(k) = c.stand_q_[3 * i + k];
+      dyn.JntToMass(q, H);
+      for (int k = 0; k < 3; ++k) inertia[k] += 0.25 * H(k, k);
+    }
+    c.swing_inertia_ = inertia;
+    const double w = cfg.swing_frequency;
+    if (cfg.swing_kp.isZero()) cfg.swing_kp = inertia * w * w;
+    if (cfg.swing_kd.isZero()) cfg.swing_kd = 2.0 * cfg.swing_damping * w * inertia;
+    for (int j = 0; j < 3; ++j)
+      if (inertia[j] > 0) cap(cfg.swing_kp[j], cfg.swing_kd[j], inertia[j], cfg.swing_delay_margin / t_loop);
+  }
+  // Safe stop from the effort limits.
+  for (int k = 0; k < 12; ++k) {
+    c.safe_kp_[k] = cfg.safe_kp > 0 ? cfg.safe_kp : cfg.safe_stiffness * c.effort_[k];
+    c.safe_kd_[k] = cfg.safe_kd > 0 ? cfg.safe_kd : cfg.safe_time_constant * c.safe_kp_[k];
+  }
+  // Forces from weight fractions.
+  const double weight = c.mass_ * kGravity;
+  cfg.contact.force_on = cfg.contact_force_on * weight;
+  cfg.contact.force_off = cfg.contact_force_off * weight;
+  cfg.force.fz_min = cfg.fz_min * weight;
+  cfg.force.fz_max = cfg.fz_max * weight;
+  if (failed(c.gait_.configure(cfg.gait))) return fail("gait: need period > 0, 0.5 < duty < 1");
+  c.contacts_.configure(cfg.contact);
+  EstimatorConfig est = cfg.estimator;
+  est.dt = cfg.dt;
   c.estimator_.configure(est);
-  Status s = StanceForceQp::configure(config.force, &c.force_qp_, why);
+  Status s = StanceForceQp::configure(cfg.force, &c.force_qp_, why);
   if (failed(s)) return s;
-  for (auto& q : c.q_leg_valid_) q = config.stand_pose;
+  for (int i = 0; i < kLegs; ++i) c.q_leg_valid_[i] = c.stand_q_.segment<3>(3 * i);
+  const int n_flight = static_cast<int>(std::floor(cfg.actuation_delay / cfg.dt + 0.5 + 1e-9));
+  c.tau_in_flight_.configure(n_flight, Vector12d::Zero());
+  c.accel_in_flight_.configure(n_flight, Vector6d::Zero());
   c.configured_ = true;
   *out = std::move(c);
   return Status::kOk;
@@ -117,16 +260,22 @@ Status QuadrupedController::configure(const QuadrupedConfig& config, RobotModelP
 
 Status QuadrupedController::step(const QuadrupedInput& in, QuadrupedOutput& out) noexcept {
   if (!configured_) return out.status = Status::kNotConfigured;
+  tick_.accel.setZero();
   out.status = run(in, out);
+  // Whatever was sent is now in flight (held and safe outputs included).
+  tau_in_flight_.push(out.tau);
+  accel_in_flight_.push(tick_.accel);
   return out.status;
 }
 
 void QuadrupedController::safe_output(const QuadrupedInput& in, Vector12d& tau) const noexcept {
   for (int i = 0; i < kLegs; ++i) {
     const Eigen::Vector3d q = in.q.segment<3>(3 * i), qd = in.qd.segment<3>(3 * i);
-    const Eigen::Vector3d t = q.allFinite() && qd.allFinite()
-                                  ? Eigen::Vector3d(cfg_.safe_kp * (cfg_.crouch - q) - cfg_.safe_kd * qd)
-                                  : Eigen::Vector3d::Zero();
+    const Eigen::Vector3d t =
+        q.allFinite() && qd.allFinite()
+            ? Eigen::Vector3d(safe_kp_.segment<3>(3 * i).cwiseProduct(crouch_q_.segment<3>(3 * i) - q) -
+                              safe_kd_.segment<3>(3 * i).cwiseProduct(qd))
+            : Eigen::Vector3d::Zero();
     tau.segment<3>(3 * i) = t;
   }
 }
@@ -142,203 +291,275 @@ void QuadrupedController::saturate(Vector12d& tau, Status* status) const noexcep
   if (clipped) *status = worst(*status, Status::kSaturated);
 }
 
+// The 1 kHz tick as a short list of stages over the per-tick scratch `tick_` (each stage reads
+// what the earlier ones wrote there; nothing allocates).
 Status QuadrupedController::run(const QuadrupedInput& in, QuadrupedOutput& out) noexcept {
-  // 1. Inputs. Bad sensors: hold the last command (a glitch must not drop the robot).
+  if (!read_inputs(in, out)) return tick_.status;  // bad sensors: last command held
+  leg_kinematics(in);
+  detect_contacts(in, out);
+  estimate_state(in, out);
+  if (safety_stop(in, out)) return Status::kSafeStop;
+  trunk_reference();
+  trunk_wrench(out);
+  swing_legs(in, out);
+  distribute_forces(out);
+  stance_legs(out);
+  saturate(out.tau, &tick_.status);
+  tau_prev_ = out.tau;
+  have_output_ = true;
+  return tick_.status;
+}
+
+// 1. Inputs. Bad sensors: hold the last command (a glitch must not drop the robot).
+bool QuadrupedController::read_inputs(const QuadrupedInput& in, QuadrupedOutput& out) noexcept {
+  Tick& k = tick_;
   const double age = in.t - in.stamp;
   if (!finite_input(in) || age > cfg_.max_measurement_age || age < -cfg_.max_measurement_age) {
-    const Status why = finite_input(in) ? Status::kStaleMeasurement : Status::kNonFiniteMeasurement;
+    k.status = finite_input(in) ? Status::kStaleMeasurement : Status::kNonFiniteMeasurement;
     if (have_output_) out.tau = tau_prev_;
     else safe_output(in, out.tau);
-    Status ignored = why;
+    Status ignored = k.status;
     saturate(out.tau, &ignored);
-    return why;
+    return false;
   }
-  Status status = Status::kOk;
-  Eigen::Vector3d command = in.velocity_command;
-  Gait requested = in.gait == 1 ? Gait::kTrot : Gait::kStand;
-  if (!command.allFinite() || (in.gait != 0 && in.gait != 1)) {
-    command.setZero();
-    requested = Gait::kStand;
-    status = Status::kNonFiniteReference;
+  k.status = Status::kOk;
+  k.command = in.velocity_command;
+  k.requested = in.gait == Gait::kTrot ? Gait::kTrot : Gait::kStand;
+  if (!k.command.allFinite() || (in.gait != Gait::kStand && in.gait != Gait::kTrot)) {
+    k.command.setZero();
+    k.requested = Gait::kStand;
+    k.status = Status::kNonFiniteReference;
   }
+  return true;
+}
 
-  // 2. Leg kinematics in the trunk frame.
-  std::array<LegMeasurement, kLegs> meas;
-  std::array<Eigen::Matrix3d, kLegs> J;
-  std::array<Eigen::Vector3d, kLegs> tau_gravity;
-  const Eigen::Quaterniond q_imu_now = to_quat(in.quat);
-  const Eigen::Vector3d g_trunk = q_imu_now.conjugate() * Eigen::Vector3d(0, 0, -kGravity);
+// 2. Leg kinematics in the trunk frame.
+void QuadrupedController::leg_kinematics(const QuadrupedInput& in) noexcept {
+  Tick& k = tick_;
+  k.q_imu = to_quat(in.quat);
+  const Eigen::Vector3d g_trunk = k.q_imu.conjugate() * Eigen::Vector3d(0, 0, -kGravity);
   for (int i = 0; i < kLegs; ++i) {
     const Eigen::Vector3d q = in.q.segment<3>(3 * i);
-    meas[i].r = legs_[i].foot_position(q);
-    J[i] = legs_[i].jacobian(q);
-    meas[i].v_rel = J[i] * in.qd.segment<3>(3 * i);
-    tau_gravity[i] = leg_gravity_[i].torque(q, g_trunk);
+    k.meas[i].r = legs_[i].foot_position(q);
+    k.J[i] = legs_[i].jacobian(q);
+    k.meas[i].v_rel = k.J[i] * in.qd.segment<3>(3 * i);
+    k.tau_gravity[i] = leg_gravity_[i].torque(q, g_trunk);
   }
   // A spherical foot rolls: its contact point (radius below the centre, along the ground normal)
   // stands still, not its centre. Add the rolling term to what the estimator takes as the
   // stance-foot velocity: v_rel = J qd + (w_shank + w_trunk) x c, c = contact point - centre.
-  {
-    const Eigen::Vector3d c = -cfg_.foot_radius * (q_imu_now.conjugate() * estimator_.ground_normal());
-    for (int i = 0; i < kLegs; ++i) {
-      const double q0 = in.q[3 * i], pitch_rate = in.qd[3 * i + 1] + in.qd[3 * i + 2];
-      const Eigen::Vector3d w_shank(in.qd[3 * i], std::cos(q0) * pitch_rate, std::sin(q0) * pitch_rate);
-      meas[i].v_rel += (w_shank + in.gyro).cross(c);
-    }
+  const Eigen::Vector3d c = -cfg_.foot_radius * (k.q_imu.conjugate() * estimator_.ground_normal());
+  for (int i = 0; i < kLegs; ++i) {
+    const Eigen::Vector3d& sg = legs_[i].geometry().sign;
+    const double q0 = sg[0] * in.q[3 * i];
+    const double pitch_rate = sg[1] * in.qd[3 * i + 1] + sg[2] * in.qd[3 * i + 2];
+    const Eigen::Vector3d w_shank(sg[0] * in.qd[3 * i], std::cos(q0) * pitch_rate, std::sin(q0) * pitch_rate);
+    k.meas[i].v_rel += (w_shank + in.gyro).cross(c);
   }
-  const Eigen::Quaterniond& q_imu = q_imu_now;
   if (!estimator_.initialised()) {
-    estimator_.reset(q_imu, meas, cfg_.foot_radius);
+    estimator_.reset(k.q_imu, k.meas, cfg_.foot_radius);
     p_des_ = estimator_.position();
     yaw_des_ = yaw_of(estimator_.orientation());
   }
+}
 
-  // 3. Gait schedule, then contacts from the normal force that the last command implies.
-  gait_.update(in.t, requested);
+// 3. Gait schedule, then contacts from the normal force that the last command implies.
+void QuadrupedController::detect_contacts(const QuadrupedInput& in, QuadrupedOutput& out) noexcept {
+  Tick& k = tick_;
+  gait_.update(in.t, k.requested);
   const auto& schedule = gait_.legs();
   const Eigen::Matrix3d R_prev = estimator_.rotation();
   const Eigen::Vector3d n_prev = estimator_.ground_normal();
   const Eigen::Vector3d p_prev = estimator_.position();
-  std::array<double, kLegs> normal_force{}, clearance{};
   for (int i = 0; i < kLegs; ++i) {
     // Foot sphere's distance above the estimated ground plane (last tick's trunk pose).
-    const Eigen::Vector3d foot = p_prev + R_prev * meas[i].r;
-    clearance[i] = (foot.z() - estimator_.ground_height(foot.x(), foot.y())) * n_prev.z() - cfg_.foot_radius;
+    const Eigen::Vector3d foot = p_prev + R_prev * k.meas[i].r;
+    k.clearance[i] = (foot.z() - estimator_.ground_height(foot.x(), foot.y())) * n_prev.z() - cfg_.foot_radius;
     // Static leg: tau = tau_g - J^T f  =>  f = J^-T (tau_g - tau) (trunk frame), skipped near
     // singular poses.
-    const Eigen::Matrix3d Jt = J[i].transpose();
+    const Eigen::Matrix3d Jt = k.J[i].transpose();
+    k.normal_force[i] = 0.0;
+    // The torque acting now is the one sent a delay ago.
+    const Vector12d& tau_acting =
+        cfg_.predict_in_flight && tau_in_flight_.size() > 0 ? tau_in_flight_.oldest(0) : tau_prev_;
     if (std::abs(Jt.determinant()) > 1e-6) {
-      const Eigen::Vector3d f = Jt.partialPivLu().solve(tau_gravity[i] - tau_prev_.segment<3>(3 * i));
-      normal_force[i] = n_prev.dot(R_prev * f);
+      const Eigen::Vector3d f = Jt.partialPivLu().solve(k.tau_gravity[i] - tau_acting.segment<3>(3 * i));
+      k.normal_force[i] = n_prev.dot(R_prev * f);
     }
   }
-  contacts_.update(schedule, normal_force, clearance);
-  out.foot_clearance = Eigen::Vector4d(clearance[0], clearance[1], clearance[2], clearance[3]);
+  contacts_.update(schedule, k.normal_force, k.clearance);
+  out.foot_clearance = Eigen::Vector4d(k.clearance[0], k.clearance[1], k.clearance[2], k.clearance[3]);
   for (int i = 0; i < kLegs; ++i) {
-    meas[i].contact = contacts_.contact(i);
-    meas[i].touched_down = contacts_.touched_down(i);
-    contact_time_[i] = meas[i].touched_down ? 0.0 : std::min(contact_time_[i] + cfg_.dt, 1e3);
+    k.meas[i].contact = contacts_.contact(i);
+    k.meas[i].touched_down = contacts_.touched_down(i);
+    contact_time_[i] = k.meas[i].touched_down ? 0.0 : std::min(contact_time_[i] + cfg_.dt, 1e3);
     const double until_liftoff = schedule[i].stance ? schedule[i].remaining : 0.0;
-    meas[i].trust = cfg_.trust_ramp > 0
-                        ? std::clamp(std::min(contact_time_[i], until_liftoff) / cfg_.trust_ramp, 0.0, 1.0)
-                        : 1.0;
+    k.meas[i].trust = cfg_.trust_ramp > 0
+                          ? std::clamp(std::min(contact_time_[i], until_liftoff) / cfg_.trust_ramp, 0.0, 1.0)
+                          : 1.0;
   }
+}
 
-  // 4. State estimate (or ground truth when debugging).
-  status = worst(status, estimator_.update(in.gyro, in.accel, q_imu, meas));
+// 4. State estimate (or ground truth when debugging).
+void QuadrupedController::estimate_state(const QuadrupedInput& in, QuadrupedOutput& out) noexcept {
+  Tick& k = tick_;
+  k.status = worst(k.status, estimator_.update(in.gyro, in.accel, k.q_imu, k.meas));
   if (in.use_ground_truth)
     estimator_.set_truth(in.true_position, in.true_velocity, to_quat(in.true_quat));
-  const Eigen::Matrix3d R = estimator_.rotation();
-  const Eigen::Vector3d p = estimator_.position(), v = estimator_.velocity();
-  const Eigen::Vector3d w_body = estimator_.angular_velocity();
-  out.tilt = std::acos(std::clamp(R(2, 2), -1.0, 1.0));
-  out.position = p;
-  out.velocity = v;
+  k.R = estimator_.rotation();
+  k.p = estimator_.position();
+  k.v = estimator_.velocity();
+  k.w_body = estimator_.angular_velocity();
+  out.tilt = std::acos(std::clamp(k.R(2, 2), -1.0, 1.0));
+  out.position = k.p;
+  out.velocity = k.v;
   out.quat = to_wxyz(estimator_.orientation());
   out.ground_normal = estimator_.ground_normal();
+  const auto& schedule = gait_.legs();
   for (int i = 0; i < kLegs; ++i) {
     out.contact[i] = contacts_.contact(i);
     out.scheduled[i] = schedule[i].stance;
   }
+}
 
-  // 5. Safety: a tilt beyond the limit latches the safe stop in this very tick.
-  if (safe_stop_ || out.tilt > cfg_.max_tilt) {
-    safe_stop_ = true;
-    out.safe_stop = true;
-    safe_output(in, out.tau);
-    Status ignored = Status::kSafeStop;
-    saturate(out.tau, &ignored);
-    tau_prev_ = out.tau;
-    have_output_ = true;
-    return Status::kSafeStop;
+// 5. Safety: a tilt beyond the limit latches the safe stop in this very tick.
+bool QuadrupedController::safety_stop(const QuadrupedInput& in, QuadrupedOutput& out) noexcept {
+  if (!safe_stop_ && !(out.tilt > cfg_.max_tilt)) {
+    out.safe_stop = false;
+    return false;
   }
-  out.safe_stop = false;
+  safe_stop_ = true;
+  out.safe_stop = true;
+  safe_output(in, out.tau);
+  Status ignored = Status::kSafeStop;
+  saturate(out.tau, &ignored);
+  tau_prev_ = out.tau;
+  have_output_ = true;
+  return true;
+}
 
-  // 6. Ramped command and the desired trunk motion (level trunk, commanded heading).
+// 6. Ramped command and the desired trunk motion (level trunk, commanded heading).
+void QuadrupedController::trunk_reference() noexcept {
+  Tick& k = tick_;
   const double dv = cfg_.max_acceleration * cfg_.dt;
-  for (int k = 0; k < 3; ++k) v_cmd_[k] = approach(v_cmd_[k], command[k], dv);
+  for (int j = 0; j < 3; ++j) v_cmd_[j] = approach(v_cmd_[j], k.command[j], dv);
   yaw_des_ += v_cmd_.z() * cfg_.dt;
   const double yaw = yaw_of(estimator_.orientation());
-  const Eigen::Vector3d v_des(std::cos(yaw) * v_cmd_.x() - std::sin(yaw) * v_cmd_.y(),
-                              std::sin(yaw) * v_cmd_.x() + std::cos(yaw) * v_cmd_.y(), 0.0);
-  p_des_.head<2>() += v_des.head<2>() * cfg_.dt;
+  k.v_des = Eigen::Vector3d(std::cos(yaw) * v_cmd_.x() - std::sin(yaw) * v_cmd_.y(),
+                            std::sin(yaw) * v_cmd_.x() + std::cos(yaw) * v_cmd_.y(), 0.0);
+  p_des_.head<2>() += k.v_des.head<2>() * cfg_.dt;
   // Keep the position target within reach, so a push does not wind it up.
-  const Eigen::Vector2d lag = p_des_.head<2>() - p.head<2>();
+  const Eigen::Vector2d lag = p_des_.head<2>() - k.p.head<2>();
   if (lag.norm() > cfg_.max_position_lag)
-    p_des_.head<2>() = p.head<2>() + cfg_.max_position_lag * lag.normalized();
-  p_des_.z() = estimator_.ground_height(p.x(), p.y()) + cfg_.body_height;
+    p_des_.head<2>() = k.p.head<2>() + cfg_.max_position_lag * lag.normalized();
+  p_des_.z() = estimator_.ground_height(k.p.x(), k.p.y()) + cfg_.body_height;
+}
 
-  // 7. Desired wrench about the CoM (world axes). Height is measured by the legs in contact
-  // (trunk above the feet), which does not drift the way an integrated estimate does.
-  std::array<bool, kLegs> stance{};
-  std::array<double, kLegs> load{};
-  int n_stance = 0;
+// 7. Desired wrench about the CoM (world axes). Height is measured by the legs in contact
+// (trunk above the feet), which does not drift the way an integrated estimate does.
+void QuadrupedController::trunk_wrench(QuadrupedOutput& out) noexcept {
+  Tick& k = tick_;
+  const auto& schedule = gait_.legs();
+  k.n_stance = 0;
   for (int i = 0; i < kLegs; ++i) {
-    stance[i] = schedule[i].stance && contacts_.contact(i);
-    n_stance += stance[i];
+    k.stance[i] = schedule[i].stance && contacts_.contact(i);
+    k.n_stance += k.stance[i];
     // Time since the scheduled touch-down (standing counts as long ago).
     stance_time_[i] = schedule[i].stance ? std::min(stance_time_[i] + cfg_.dt, 1e3) : 0.0;
-    load[i] = cfg_.load_ramp > 0
-                  ? std::clamp(std::min(stance_time_[i], schedule[i].remaining) / cfg_.load_ramp, 0.0, 1.0)
-                  : 1.0;
+    k.load[i] = cfg_.load_ramp > 0
+                    ? std::clamp(std::min(stance_time_[i], schedule[i].remaining) / cfg_.load_ramp, 0.0, 1.0)
+                    : 1.0;
   }
-  // Feedback acts on the state predicted one actuation delay ahead, when the command lands.
+  // Feedback acts on the state predicted one actuation delay ahead, when the command lands:
+  // first order, plus (predict_in_flight) what the commands still in flight will do to it.
   const double tau_d = cfg_.actuation_delay;
-  Eigen::Vector3d e_p = p_des_ - (p + tau_d * v);
-  double height = tau_d * v.z();
+  const Eigen::Matrix3d& R = k.R;
+  Eigen::Vector3d dv = Eigen::Vector3d::Zero(), dp = Eigen::Vector3d::Zero();  // world
+  Eigen::Vector3d dw = Eigen::Vector3d::Zero(), dth = Eigen::Vector3d::Zero(); // world
+  if (cfg_.predict_in_flight) {
+    const int n = accel_in_flight_.size();
+    for (int j = 0; j < n; ++j) {
+      // Command j acts during [j, j + 1) ticks from now: its velocity change dt a counts fully,
+      // its position change for the (n - j - 0.5) ticks left until the new command lands.
+      const Vector6d& a = accel_in_flight_.oldest(j);
+      const double lever = (n - j - 0.5) * cfg_.dt * cfg_.dt;
+      dv += cfg_.dt * a.head<3>();
+      dp += lever * a.head<3>();
+      dw += cfg_.dt * a.tail<3>();
+      dth += lever * a.tail<3>();
+    }
+  }
+  const Eigen::Vector3d v_pred = k.v + dv;
+  Eigen::Vector3d e_p = p_des_ - (k.p + tau_d * k.v + dp);
+  double height = tau_d * k.v.z() + dp.z();
   for (int i = 0; i < kLegs; ++i)
-    if (stance[i]) height += -(R * meas[i].r).z();
-  if (n_stance > 0) {
-    height = height / n_stance + cfg_.foot_radius / std::max(estimator_.ground_normal().z(), 0.5);
+    if (k.stance[i]) height += -(R * k.meas[i].r).z();
+  if (k.n_stance > 0) {
+    height = height / k.n_stance + cfg_.foot_radius / std::max(estimator_.ground_normal().z(), 0.5);
     e_p.z() = cfg_.body_height - height;
   }
-  const Eigen::Vector3d e_v = v_des - v;
+  const Eigen::Vector3d e_v = k.v_des - v_pred;
   const Eigen::Quaterniond q_des(Eigen::AngleAxisd(yaw_des_, Eigen::Vector3d::UnitZ()));
-  const Eigen::Vector3d half_turn = 0.5 * tau_d * w_body;
+  // Rotation over the delay (world frame): tau_d w + the in-flight angular accelerations.
+  const Eigen::Vector3d half_turn = 0.5 * (tau_d * (R * k.w_body) + dth);
   const Eigen::Quaterniond q_pred =
-      (estimator_.orientation() * Eigen::Quaterniond(1.0, half_turn.x(), half_turn.y(), half_turn.z()))
+      (Eigen::Quaterniond(1.0, half_turn.x(), half_turn.y(), half_turn.z()) * estimator_.orientation())
           .normalized();
+  const Eigen::Vector3d w_pred_body = k.w_body + R.transpose() * dw;
   Eigen::Quaterniond q_err = q_des * q_pred.conjugate();  // world frame error
   if (q_err.w() < 0) q_err.coeffs() = -q_err.coeffs();  // shortest path
   const Eigen::Vector3d e_R_body = R.transpose() * (2.0 * q_err.vec());
   const Eigen::Vector3d w_des_body = R.transpose() * Eigen::Vector3d(0, 0, v_cmd_.z());
-  Vector6d wrench;
-  wrench.head<3>() = mass_ * (cfg_.kp_position.cwiseProduct(e_p) + cfg_.kd_velocity.cwiseProduct(e_v) +
-                              Eigen::Vector3d(0, 0, kGravity));
-  wrench.tail<3>() = R * (inertia_ * (cfg_.kp_orientation.cwiseProduct(e_R_body) +
-                                      cfg_.kd_angular.cwiseProduct(w_des_body - w_body)));
+  k.wrench.head<3>() = mass_ * (cfg_.kp_position.cwiseProduct(e_p) + cfg_.kd_velocity.cwiseProduct(e_v) +
+                                Eigen::Vector3d(0, 0, kGravity));
+  k.wrench.tail<3>() = R * (inertia_ * (cfg_.kp_orientation.cwiseProduct(e_R_body) +
+                                        cfg_.kd_angular.cwiseProduct(w_des_body - w_pred_body)));
+  (void)out;
+}
 
-  // 8. Swing legs (and stance legs still looking for the ground): foothold, swing, IK, joint PD.
-  // Their motors push back on the trunk: the abduction and hip-pitch torques beyond gravity
-  // compensation are a moment on the trunk that the stance feet must cancel (measured: the swing
-  // legs' reaction pitched the trunk ~1.2 deg each step at 0.5 m/s).
+// 8. Swing legs (and stance legs still looking for the ground): foothold, swing, IK, joint PD.
+// Their motors push back on the trunk: the abduction and hip-pitch torques beyond gravity
+// compensation are a moment on the trunk that the stance feet must cancel (measured: the swing
+// legs' reaction pitched the trunk ~1.2 deg each step at 0.5 m/s).
+void QuadrupedController::swing_legs(const QuadrupedInput& in, QuadrupedOutput& out) noexcept {
+  Tick& k = tick_;
+  const auto& schedule = gait_.legs();
+  const Eigen::Matrix3d& R = k.R;
+  const Eigen::Vector3d &p = k.p, &v = k.v;
+  const double tau_d = cfg_.actuation_delay;
   const double t_swing = gait_.swing_duration(), t_stance = gait_.stance_duration();
-  Eigen::Vector3d swing_reaction = Eigen::Vector3d::Zero();  // trunk frame [N m]
+  k.swing_reaction.setZero();  // trunk frame [N m]
   for (int i = 0; i < kLegs; ++i) {
-    if (stance[i]) continue;
+    if (k.stance[i]) continue;
     const Eigen::Vector3d q = in.q.segment<3>(3 * i), qd = in.qd.segment<3>(3 * i);
     const LegGeometry& g = legs_[i].geometry();
     const LegPhase& ph = schedule[i];
-    Eigen::Vector3d p_foot, v_foot;
+    Eigen::Vector3d p_foot, v_foot, a_foot = Eigen::Vector3d::Zero();
     if (!ph.stance) {
-      if (was_stance_[i]) swing_start_[i] = p + R * meas[i].r;  // lift-off point
+      if (was_stance_[i]) swing_start_[i] = p + R * k.meas[i].r;  // lift-off point
       // Raibert foothold: at mid-stance under the hip moved to the CoM's x (so that the diagonal
       // support line passes through the CoM), shifted against the velocity error.
       const Eigen::Vector3d hip =
           p + R * (g.abd_origin + Eigen::Vector3d(com_.x() + cfg_.foothold_shift.x(),
                                                   g.l_abd + cfg_.foothold_shift.y(), 0));
-      Eigen::Vector3d target = hip + v * ph.remaining + 0.5 * t_stance * v_des +
-                               cfg_.raibert_gain * (v - v_des);
+      Eigen::Vector3d target = hip + v * ph.remaining + 0.5 * t_stance * k.v_des +
+                               cfg_.raibert_gain * (v - k.v_des);
       target.z() = estimator_.ground_height(target.x(), target.y()) + cfg_.foot_radius -
                    cfg_.touchdown_depth;
       swing_target_[i] = target;
-      const SwingSample s = sample_swing(swing_start_[i], target, cfg_.swing_height, ph.progress, t_swing);
+      // The reference where the foot should be when this command lands (one delay ahead), and
+      // the joint acceleration it asks for, fed forward through each joint's own inertia: the
+      // feedback, bounded by the delay, only corrects.
+      const double ahead = cfg_.swing_feedforward && t_swing > 0 ? tau_d / t_swing : 0.0;
+      const SwingSample s = sample_swing(swing_start_[i], target, cfg_.swing_height,
+                                         std::min(ph.progress + ahead, 1.0), t_swing);
       p_foot = s.p;
       v_foot = s.v;
+      a_foot = s.a;
       late_time_[i] = 0.0;
     } else {
       // Scheduled on the ground but no contact yet: keep reaching down until the foot finds it.
-      if (was_stance_[i]) swing_target_[i] = p + R * meas[i].r;  // never swung: start from here
+      if (was_stance_[i]) swing_target_[i] = p + R * k.meas[i].r;  // never swung: start from here
       late_time_[i] += cfg_.dt;
       p_foot = swing_target_[i] - Eigen::Vector3d(0, 0, 0.3 * late_time_[i]);
       v_foot = Eigen::Vector3d(0, 0, -0.3);
@@ -347,44 +568,64 @@ Status QuadrupedController::run(const QuadrupedInput& in, QuadrupedOutput& out) 
     const Eigen::Vector3d r_des = R.transpose() * (p_foot - p);
     Eigen::Vector3d q_des = q_leg_valid_[i];
     if (legs_[i].inverse(r_des, q_des) == Status::kOk) q_leg_valid_[i] = q_des;
-    else status = worst(status, Status::kUnreachable);
-    const Eigen::Vector3d v_rel = R.transpose() * (v_foot - v) - w_body.cross(r_des);
+    else k.status = worst(k.status, Status::kUnreachable);
+    const Eigen::Vector3d v_rel = R.transpose() * (v_foot - v) - k.w_body.cross(r_des);
     const Eigen::Matrix3d Jd = legs_[i].jacobian(q_des);
-    Eigen::Vector3d qd_des = Eigen::Vector3d::Zero();
-    if (std::abs(Jd.determinant()) > 1e-6) qd_des = Jd.partialPivLu().solve(v_rel);
+    Eigen::Vector3d qd_des = Eigen::Vector3d::Zero(), qdd_des = Eigen::Vector3d::Zero();
+    if (std::abs(Jd.determinant()) > 1e-6) {
+      const auto lu = Jd.partialPivLu();
+      qd_des = lu.solve(v_rel);
+      if (cfg_.swing_feedforward) qdd_des = lu.solve(R.transpose() * a_foot);
+    }
     const Eigen::Vector3d tau_pd = cfg_.swing_kp.cwiseProduct(q_des - (q + tau_d * qd)) +
-                                   cfg_.swing_kd.cwiseProduct(qd_des - qd);
-    out.tau.segment<3>(3 * i) = tau_gravity[i] + tau_pd;
-    const double c0 = std::cos(q[0]), s0 = std::sin(q[0]);
-    swing_reaction += tau_pd[0] * Eigen::Vector3d::UnitX() + tau_pd[1] * Eigen::Vector3d(0, c0, s0);
+                                   cfg_.swing_kd.cwiseProduct(qd_des - qd) +
+                                   swing_inertia_.cwiseProduct(qdd_des);
+    out.tau.segment<3>(3 * i) = k.tau_gravity[i] + tau_pd;
+    const Eigen::Vector3d& sg = g.sign;
+    const double c0 = std::cos(sg[0] * q[0]), s0 = std::sin(sg[0] * q[0]);
+    k.swing_reaction += sg[0] * tau_pd[0] * Eigen::Vector3d::UnitX() +
+                        sg[1] * tau_pd[1] * Eigen::Vector3d(0, c0, s0);
   }
-  if (cfg_.swing_reaction_feedforward) wrench.tail<3>() += R * swing_reaction;
+  if (cfg_.swing_reaction_feedforward) k.wrench.tail<3>() += R * k.swing_reaction;
+}
 
-  // 9. Force distribution over the legs that are both scheduled and detected on the ground.
-  out.wrench = wrench;
+// 9. Force distribution over the legs that are both scheduled and detected on the ground.
+void QuadrupedController::distribute_forces(QuadrupedOutput& out) noexcept {
+  Tick& k = tick_;
+  out.wrench = k.wrench;
   std::array<Eigen::Vector3d, kLegs> feet;
-  for (int i = 0; i < kLegs; ++i) feet[i] = R * (meas[i].r - com_);
-  if (n_stance > 0) {
-    const Status qp = force_qp_.solve(wrench, feet, stance, load, estimator_.ground_normal(), f_);
-    status = worst(status, qp);
+  for (int i = 0; i < kLegs; ++i) feet[i] = k.R * (k.meas[i].r - com_);
+  if (k.n_stance > 0) {
+    const Status qp = force_qp_.solve(k.wrench, feet, k.stance, k.load, estimator_.ground_normal(), f_);
+    k.status = worst(k.status, qp);
     out.qp_iterations = force_qp_.last_result().iterations;
   } else {
     f_.setZero();
     out.qp_iterations = 0;
   }
   out.foot_force = f_;
-
-  // 10. Stance legs push with -J^T f.
+  // The trunk acceleration this command will produce when it lands (for the predictor): the
+  // stance forces' wrench, less gravity and the swing legs' reaction, over mass and inertia.
+  Eigen::Vector3d force = Eigen::Vector3d(0, 0, -kGravity * mass_), moment = -k.R * k.swing_reaction;
   for (int i = 0; i < kLegs; ++i) {
-    if (!stance[i]) continue;
-    out.tau.segment<3>(3 * i) = tau_gravity[i] - J[i].transpose() * (R.transpose() * f_.segment<3>(3 * i));
+    force += f_.segment<3>(3 * i);
+    moment += feet[i].cross(f_.segment<3>(3 * i));
+  }
+  const Eigen::Matrix3d I_world = k.R * inertia_ * k.R.transpose();
+  k.accel.head<3>() = force / mass_;
+  k.accel.tail<3>() = I_world.ldlt().solve(moment);
+}
+
+// 10. Stance legs push with -J^T f.
+void QuadrupedController::stance_legs(QuadrupedOutput& out) noexcept {
+  Tick& k = tick_;
+  for (int i = 0; i < kLegs; ++i) {
+    if (!k.stance[i]) continue;
+    out.tau.segment<3>(3 * i) =
+        k.tau_gravity[i] - k.J[i].transpose() * (k.R.transpose() * f_.segment<3>(3 * i));
     late_time_[i] = 0.0;
     was_stance_[i] = true;
   }
-  saturate(out.tau, &status);
-  tau_prev_ = out.tau;
-  have_output_ = true;
-  return status;
 }
 
 }  // namespace kiloloop

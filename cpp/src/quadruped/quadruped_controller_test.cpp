@@ -34,6 +34,7 @@ QuadrupedController make_controller() {
   std::string why;
   QuadrupedConfig config;
   config.body_height = 0.3308;  // the standing pose below: no height error in the first tick
+  config.foot_radius = 0.02;
   EXPECT_EQ(QuadrupedController::configure(config, quadruped_model(), &c, &why), Status::kOk)
       << why;
   return c;
@@ -52,6 +53,39 @@ TEST(QuadrupedController, ConfiguresFromTheUrdf) {
   EXPECT_NE(why.find("nose"), std::string::npos);
 }
 
+// Everything the robot file does not give is derived: the composite inertia equals the sum over
+// the links (checked against a hand sum here, against Pinocchio in tests/), the standing pose
+// reproduces the height, gains and thresholds scale with the model.
+TEST(QuadrupedController, DerivesStandPoseInertiaAndThresholds) {
+  QuadrupedController c;
+  std::string why;
+  QuadrupedConfig config;
+  config.foot_radius = 0.02;
+  ASSERT_EQ(QuadrupedController::configure(config, quadruped_model(), &c, &why), Status::kOk) << why;
+  const QuadrupedConfig& d = c.config();
+  EXPECT_GT(d.body_height, 0.2);
+  for (int i = 0; i < 4; ++i) {
+    const Eigen::Vector3d foot = c.leg(i).foot_position(c.stand_pose().segment<3>(3 * i));
+    EXPECT_NEAR(foot.z(), -(d.body_height - d.foot_radius), 1e-9);
+    EXPECT_EQ(d.knees[i], KneeDirection::kBackward);
+  }
+  EXPECT_NEAR(d.contact.force_on, d.contact_force_on * 17.6 * 9.81, 1e-9);
+  EXPECT_TRUE((d.swing_kp.array() > 0).all());
+  EXPECT_TRUE((d.swing_kd.array() > 0).all());
+  // A symmetric robot standing symmetric: the composite inertia is nearly diagonal, roll < pitch.
+  EXPECT_LT(c.inertia()(0, 0), c.inertia()(1, 1));
+  EXPECT_LT(std::abs(c.inertia()(0, 1)), 1e-6);
+}
+
+TEST(QuadrupedController, RefusesSwappedFeetWithAClearReason) {
+  QuadrupedController c;
+  std::string why;
+  QuadrupedConfig config;
+  config.feet = {"FR_foot", "FL_foot", "RL_foot", "RR_foot"};
+  EXPECT_EQ(QuadrupedController::configure(config, quadruped_model(), &c, &why), Status::kModelError);
+  EXPECT_NE(why.find("'FR_foot' is listed as front-left"), std::string::npos) << why;
+}
+
 TEST(QuadrupedController, StandingStepSupportsTheWeight) {
   QuadrupedController c = make_controller();
   QuadrupedInput in = standing_input(c);
@@ -66,7 +100,7 @@ TEST(QuadrupedController, StandingStepSupportsTheWeight) {
 TEST(QuadrupedController, TrotStepsAreAllocationFree) {
   QuadrupedController c = make_controller();
   QuadrupedInput in = standing_input(c);
-  in.gait = 1;
+  in.gait = Gait::kTrot;
   in.velocity_command << 0.5, 0.0, 0.0;
   QuadrupedOutput out;
   c.step(in, out);

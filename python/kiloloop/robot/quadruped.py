@@ -1,11 +1,151 @@
-"""What a quadruped's robot file does not say, derived from its URDF (robot-file issue 10 extends
-this: stand height, gains from masses and inertias, contact thresholds...)."""
+"""Quadruped robot files: what the file does not say, derived from its URDF.
+
+The controller derives the rest itself at configure (stand height and pose, composite inertia,
+gains and thresholds from masses, inertias, effort limits and the actuation delay; see
+QuadrupedConfig); this module adds what needs the URDF's collision geometry (foot radius), maps
+the file's [legs] and [controller] tables onto kl.QuadrupedConfig, and gives the plant its start
+pose. `kiloloop robot check FILE` prints `summary`.
+"""
 from __future__ import annotations
+
+import xml.etree.ElementTree as ET
+
+import numpy as np
+
+# Nested config structs of kl.QuadrupedConfig (robot-file tables [controller.gait] ...).
+_NESTED = ("gait", "contact", "estimator", "force")
+_KNEES = {"auto": "AUTO", "backward": "BACKWARD", "forward": "FORWARD"}
+
+
+def _fields(obj) -> list[str]:
+    return [k for k in dir(obj) if not k.startswith("_") and not callable(getattr(obj, k))]
+
+
+def controller_schema() -> dict:
+    """Accepted [controller] keys: the fields of kl.QuadrupedConfig (nested tables for its
+    sub-structs), generated so that the schema cannot drift from the C++ struct."""
+    from .. import _core
+
+    config = _core.QuadrupedConfig()
+    out = {}
+    for key in _fields(config):
+        out[key] = ({k: None for k in _fields(getattr(config, key))} if key in _NESTED else None)
+    return out
+
+
+def foot_radius(robot) -> float:
+    """[m] radius of the first foot's collision sphere (cylinder: its radius; box: half its
+    smallest side); 0 when the foot link has no collision geometry (a point foot)."""
+    feet = robot.section("legs").get("feet") or []
+    if not feet:
+        return 0.0
+    root = ET.fromstring(robot.urdf_text())
+    for link in root.findall("link"):
+        if link.get("name") != feet[0]:
+            continue
+        for geom in link.findall("collision/geometry/*"):
+            if geom.tag == "sphere":
+                return float(geom.get("radius"))
+            if geom.tag == "cylinder":
+                return float(geom.get("radius"))
+            if geom.tag == "box":
+                return 0.5 * min(float(v) for v in geom.get("size").split())
+    return 0.0
+
+
+def _assign(obj, key: str, value, where: str) -> None:
+    from .. import _core
+
+    if not hasattr(obj, key):
+        raise ValueError(f"{where}{key}: not a controller setting")
+    current = getattr(obj, key)
+    if key == "knees":
+        values = value if isinstance(value, list) else [value] * 4
+        try:
+            value = [getattr(_core.KneeDirection, _KNEES[str(v).lower()]) for v in values]
+        except KeyError:
+            raise ValueError(f"{where}knees: expected auto, backward or forward") from None
+    elif isinstance(current, np.ndarray):
+        value = np.broadcast_to(np.asarray(value, dtype=float), current.shape).copy()
+    elif isinstance(current, bool):
+        value = bool(value)
+    elif isinstance(current, float):
+        value = float(value)
+    setattr(obj, key, value)
+
+
+def controller_config(robot, actuation_delay: float | None = None):
+    """kl.QuadrupedConfig for the robot: trunk and feet from [legs], the foot radius from the
+    URDF, the declared actuation delay, then the file's [controller] table (which wins)."""
+    from .. import _core
+
+    config = _core.QuadrupedConfig()
+    legs = robot.section("legs")
+    if legs.get("base"):
+        config.trunk_link = legs["base"]
+    if legs.get("feet"):
+        if len(legs["feet"]) != 4:
+            raise ValueError(f"{robot.path}: legs.feet: expected 4 links (FL, FR, RL, RR), got "
+                             f"{len(legs['feet'])}")
+        config.feet = list(legs["feet"])
+    config.foot_radius = foot_radius(robot)
+    if actuation_delay is not None:
+        config.actuation_delay = float(actuation_delay)
+    for key, value in robot.section("controller").items():
+        if key in _NESTED and isinstance(value, dict):
+            sub = getattr(config, key)
+            for k, v in value.items():
+                _assign(sub, k, v, f"controller.{key}.")
+            setattr(config, key, sub)
+        else:
+            _assign(config, key, value, "controller.")
+    config.validate()
+    return config
+
+
+def plant_overlay(robot, controller) -> dict:
+    """The plant's [sim] sections with what the robot file leaves out: the joints start in the
+    controller's standing pose (URDF order), the IMU on the base, the feet from [legs]."""
+    from ..sil.plant import _urdf_joints
+
+    sim = robot.sim
+    joints = sim.setdefault("joints", {})
+    if joints.get("q0") is None:
+        names, _ = _urdf_joints(robot.urdf)
+        stand = dict(zip(controller.joint_names, np.asarray(controller.stand_pose)))
+        joints["q0"] = [float(stand.get(n, 0.0)) for n in names]
+    legs = robot.section("legs")
+    imu = sim.setdefault("imu", {})
+    if not imu.get("body") and legs.get("base"):
+        imu["body"] = legs["base"]
+    feet = sim.setdefault("feet", {})
+    if not feet.get("bodies") and legs.get("feet"):
+        feet["bodies"] = list(legs["feet"])
+    return sim
 
 
 def summary(robot, model) -> list[str]:
+    from .. import _core
     from ..sil.floating_plant import FloatingBasePlant
 
-    plant = FloatingBasePlant(robot.urdf, robot.sim)
-    return [f"  plant: {plant.model.nbody - 1} bodies, {plant.nq} actuated joints, "
-            f"feet {', '.join(plant.feet)}"]
+    config = controller_config(robot)
+    ctrl = _core.QuadrupedController(model, config)
+    d = ctrl.config
+    plant = FloatingBasePlant(robot.urdf, plant_overlay(robot, ctrl), package_dirs=robot.package_dirs)
+    inertia = np.asarray(ctrl.inertia)
+    fmt = lambda v: ", ".join(f"{x:.4g}" for x in np.asarray(v).ravel())  # noqa: E731
+    knees = ", ".join(str(k).split(".")[-1].lower() for k in d.knees)
+    return [
+        f"  plant: {plant.model.nbody - 1} bodies, {plant.nq} actuated joints, "
+        f"feet {', '.join(plant.feet)} (order checked against the hips)",
+        f"  mass {d.mass:.3f} kg; CoM standing {fmt(ctrl.com)} m (trunk frame)",
+        f"  composite inertia about the CoM [kg m^2]: diag {fmt(np.diag(inertia))}",
+        f"  stand height {d.body_height:.4f} m; foot radius {d.foot_radius:.4f} m; knees {knees}",
+        f"  stand pose [rad] {fmt(ctrl.stand_pose)}",
+        f"  plant start height {plant.base_pos0[2]:.4f} m",
+        f"  swing kp {fmt(d.swing_kp)} N m/rad, kd {fmt(d.swing_kd)} N m s/rad "
+        f"(actuation delay {d.actuation_delay * 1e3:.1f} ms)",
+        f"  contact on/off {d.contact.force_on:.1f}/{d.contact.force_off:.1f} N; "
+        f"fz {d.force.fz_min:.1f}..{d.force.fz_max:.1f} N; swing height {d.swing_height:.3f} m; "
+        f"Raibert gain {d.raibert_gain:.3f} s",
+    ]

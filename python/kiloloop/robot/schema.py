@@ -45,10 +45,12 @@ def _arm() -> dict:
 
 def _quadruped() -> dict:
     from ..sil.floating_plant import _DEFAULTS as plant
+    from .quadruped import controller_schema
 
     return {
         "legs": {"base": "", "feet": []},
-        "controller": FREE,  # fields of kl.QuadrupedConfig (dotted for nested structs)
+        # Fields of kl.QuadrupedConfig ([controller.gait] etc. for its nested structs).
+        "controller": controller_schema(),
         "sim": {section: dict(values) for section, values in plant.items()},
     }
 

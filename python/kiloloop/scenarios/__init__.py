@@ -24,6 +24,8 @@ _MODULES = {
     "quadruped-trot": "quadruped_trot",
     "quadruped-push": "quadruped_push",
     "quadruped-tilt-stop": "quadruped_tilt_stop",
+    "quadruped-turn": "quadruped_turn",
+    "quadruped-slope-trot": "quadruped_slope_trot",
     "arm-line": "arm_line",
     "arm-rrt": "arm_rrt",
     "arm-press": "arm_press",

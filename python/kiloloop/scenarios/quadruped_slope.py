@@ -17,7 +17,7 @@ DEFAULTS = dict(COMMON_DEFAULTS, slope_deg=5.0)
 CRITERIA = {"foot_drift_m": ("<", 0.01), "split_error_rel": ("<", 0.05), "fell": ("<", 0.5)}
 
 
-def static_front_share(plant) -> float:
+def static_front_share(plant, foot_radius: float = 0.02) -> float:
     """Front feet's share of the total normal force predicted by rigid static equilibrium.
 
     In the slope frame (s along the slope, n along its normal), moments about the rear contact
@@ -27,8 +27,8 @@ def static_front_share(plant) -> float:
     """
     a = plant.slope
     s_dir, n_dir = np.array([np.cos(a), 0.0, np.sin(a)]), plant.ground_normal()
-    com = plant.data.subtree_com[plant.model.body("trunk").id]
-    contact = plant.foot_positions() - 0.02 * n_dir  # foot sphere centre -> contact point
+    com = plant.data.subtree_com[plant.model.body(plant.base_body).id]
+    contact = plant.foot_positions() - foot_radius * n_dir  # foot sphere centre -> contact point
     rear = 0.5 * (contact[2] + contact[3])
     front = 0.5 * (contact[0] + contact[1])
     L = (front - rear) @ s_dir
@@ -38,8 +38,9 @@ def static_front_share(plant) -> float:
     return float((np.cos(a) * x_c - np.sin(a) * h_c) / (L * np.cos(a)))
 
 
-def run(settings: dict, seed: int = 0, duration: float | None = None) -> ScenarioResult:
-    rig = rig_from_settings(settings, seed, slope_deg=settings["slope_deg"])
+def run(settings: dict, seed: int = 0, duration: float | None = None,
+        robot=None) -> ScenarioResult:
+    rig = rig_from_settings(settings, seed, slope_deg=settings["slope_deg"], robot=robot)
     log = rig.run(DURATION if duration is None else duration, lambda t: (0, np.zeros(3)))
     add_derived(log)
     t = log["t"]
@@ -49,13 +50,13 @@ def run(settings: dict, seed: int = 0, duration: float | None = None) -> Scenari
     normal = rig.plant.ground_normal()
     fn = log["foot_force"][-200:] @ normal  # last 0.2 s, normal components (ticks, feet)
     measured = float(np.mean(fn[:, :2].sum(axis=1) / fn.sum(axis=1)))
-    predicted = static_front_share(rig.plant)
+    predicted = static_front_share(rig.plant, rig.config.foot_radius)
     metrics = {
         "foot_drift_m": float(drift.max()),
         "front_share_measured": measured,
         "front_share_predicted": predicted,
         "split_error_rel": float(abs(measured - predicted) / predicted),
-        "fell": float(fallen(log)),
+        "fell": float(fallen(log, rig.fall_height)),
         "failed_ticks": int(np.sum(log["status"] < 0)),
     }
     return ScenarioResult(NAME, metrics, evaluate(CRITERIA, metrics), log, dict(settings))

@@ -1,5 +1,6 @@
 """quadruped-stand: the 12-DoF quadruped stands up from its initial pose and holds its height,
-on estimated state, with sensor noise, encoder quantization and a 10 ms motor delay."""
+on estimated state, with sensor noise, encoder quantization and a 10 ms motor delay. Any
+quadruped robot file: the height is the robot's derived (or configured) standing height."""
 from __future__ import annotations
 
 import numpy as np
@@ -9,26 +10,33 @@ from ..sil.quadruped_rig import (COMMON_DEFAULTS, QUADRUPED_PLOT, add_derived, f
 from . import ScenarioResult, evaluate
 
 NAME = "quadruped-stand"
-DESCRIPTION = "quadruped stands at 0.30 m; height error after 1 s (noise, delay on)"
+DESCRIPTION = "quadruped stands at its standing height; height error after 1 s (noise, delay on)"
 DURATION = 3.0
-DEFAULTS = dict(COMMON_DEFAULTS, body_height=0.30)
+DEFAULTS = dict(COMMON_DEFAULTS, body_height=0.0)  # [m] 0: the robot's standing height
 CRITERIA = {"height_error_after_1s_m": ("<", 0.01), "fell": ("<", 0.5)}
 
 
-def run(settings: dict, seed: int = 0, duration: float | None = None) -> ScenarioResult:
-    import kiloloop as kl
+def run(settings: dict, seed: int = 0, duration: float | None = None,
+        robot=None) -> ScenarioResult:
+    from ..robot.quadruped import controller_config
+    from ..sil.quadruped_rig import default_robot
 
-    config = kl.QuadrupedConfig()
-    config.body_height = settings["body_height"]
-    rig = rig_from_settings(settings, seed, config=config)
+    robot = robot or default_robot()
+    config = controller_config(robot, actuation_delay=settings["motor_delay"]
+                               if settings["nonideal"] else 0.0)
+    if settings["body_height"] > 0:
+        config.body_height = settings["body_height"]
+    rig = rig_from_settings(settings, seed, config=config, robot=robot)
+    height = rig.config.body_height
     log = rig.run(DURATION if duration is None else duration, lambda t: (0, np.zeros(3)))
     add_derived(log)
     t, z = log["t"], log["base_pos"][:, 2]  # flat ground at z = 0
-    after = t >= 1.0
+    after = t >= min(1.0, t[-1])
     metrics = {
-        "height_error_after_1s_m": float(np.max(np.abs(z[after] - settings["body_height"]))),
+        "height_error_after_1s_m": float(np.max(np.abs(z[after] - height))),
+        "body_height_m": float(height),
         "final_height_m": float(z[-1]),
-        "fell": float(fallen(log)),
+        "fell": float(fallen(log, rig.fall_height)),
         "failed_ticks": int(np.sum(log["status"] < 0)),
     }
     return ScenarioResult(NAME, metrics, evaluate(CRITERIA, metrics), log, dict(settings))

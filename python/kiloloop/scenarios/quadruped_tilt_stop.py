@@ -11,13 +11,16 @@ NAME = "quadruped-tilt-stop"
 DESCRIPTION = "a shove tips the robot: safe stop within one tick of 15 deg tilt"
 DURATION = 2.0
 PUSH_TIME = 0.5
-DEFAULTS = dict(COMMON_DEFAULTS, impulse=40.0, push_duration=0.1, push_height=0.0)
+# impulse [N s]: 0 = impulse_per_kg times the robot's mass (40 N s on the 17.6 kg model).
+DEFAULTS = dict(COMMON_DEFAULTS, impulse=0.0, impulse_per_kg=2.3, push_duration=0.1, push_height=0.0)
 CRITERIA = {"ticks_late": ("<=", 1.0), "tilted": (">", 0.5)}
 
 
-def run(settings: dict, seed: int = 0, duration: float | None = None) -> ScenarioResult:
-    rig = rig_from_settings(settings, seed)
-    force = np.array([0.0, settings["impulse"] / settings["push_duration"], 0.0])
+def run(settings: dict, seed: int = 0, duration: float | None = None,
+        robot=None) -> ScenarioResult:
+    rig = rig_from_settings(settings, seed, robot=robot)
+    impulse = settings["impulse"] or settings["impulse_per_kg"] * rig.config.mass
+    force = np.array([0.0, impulse / settings["push_duration"], 0.0])
     events = [(PUSH_TIME, lambda plant: plant.apply_push(force, settings["push_duration"]))]
     log = rig.run(DURATION if duration is None else duration, lambda t: (0, np.zeros(3)),
                   events=events)

@@ -23,13 +23,13 @@ def trot_command(speed: float, start: float = START):
     return command
 
 
-def trot_metrics(log, speed: float, since: float) -> dict:
+def trot_metrics(log, speed: float, since: float, fall_height: float = 0.15) -> dict:
     t = log["t"]
     k = t >= since
     rp = log["roll_pitch_deg"][k]
     v = heading_velocity(log)[k]
     return {
-        "fell": float(fallen(log)),
+        "fell": float(fallen(log, fall_height)),
         "roll_rms_deg": float(np.sqrt(np.mean(rp[:, 0] ** 2))),
         "pitch_rms_deg": float(np.sqrt(np.mean(rp[:, 1] ** 2))),
         "roll_pitch_rms_deg": float(np.sqrt(np.mean(rp ** 2, axis=0)).max()),
@@ -42,19 +42,21 @@ def trot_metrics(log, speed: float, since: float) -> dict:
     }
 
 
-def run(settings: dict, seed: int = 0, duration: float | None = None) -> ScenarioResult:
-    rig = rig_from_settings(settings, seed)
+def run(settings: dict, seed: int = 0, duration: float | None = None,
+        robot=None) -> ScenarioResult:
+    rig = rig_from_settings(settings, seed, robot=robot)
     log = rig.run(DURATION if duration is None else duration, trot_command(settings["speed"]),
-                  stop_when=_fell_early)
+                  stop_when=fell_early(rig))
     add_derived(log)
-    metrics = trot_metrics(log, settings["speed"], SETTLED)
+    metrics = trot_metrics(log, settings["speed"], SETTLED, rig.fall_height)
     metrics["speed"] = settings["speed"]
     return ScenarioResult(NAME, metrics, evaluate(CRITERIA, metrics), log, dict(settings))
 
 
-def _fell_early(log) -> bool:
-    # Cheap check every tick: the trunk on the ground ends the run (it is a fall either way).
-    return log.last("base_pos")[2] < 0.12
+def fell_early(rig):
+    # Cheap check every tick: the trunk near the ground ends the run (it is a fall either way).
+    low = 0.8 * rig.fall_height
+    return lambda log: log.last("base_pos")[2] < low
 
 
 def max_passing_speed(speeds=(0.5, 0.75, 1.0, 1.25, 1.5), seeds=(0, 7), settings=None) -> dict:

@@ -53,15 +53,46 @@ def _quat_mul(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     return out
 
 
+def _repair_inertias(spec, notes: list) -> None:
+    """Degenerate link inertias (dummy root links such as Go1's `base`: 1e-6 kg with every entry
+    of its inertia 1e-6, not positive definite) make MuJoCo refuse the model. Each is replaced
+    by the nearest valid one: the same mass and CoM (so total mass and CoM equal the controller's
+    model), eigenvalues raised to those of a 1 mm sphere of that mass and made to satisfy the
+    triangle inequality. Massless links get no inertia at all (MuJoCo welds them)."""
+    for body in spec.bodies:
+        if body.name == "world" or not body.explicitinertial:
+            continue
+        full = np.asarray(body.fullinertia, dtype=float)
+        if np.all(np.isfinite(full)):
+            I = np.array([[full[0], full[3], full[4]], [full[3], full[1], full[5]],
+                          [full[4], full[5], full[2]]])
+        else:
+            I = np.diag(np.asarray(body.inertia, dtype=float))
+        w, V = np.linalg.eigh(I)
+        floor = 0.4 * body.mass * 1e-3 ** 2
+        ok = body.mass > 0 and w.min() > 0 and w.sum() - 2 * w.max() >= -1e-12 * w.sum()
+        if ok or body.mass <= 0:
+            continue
+        w = np.maximum(w, floor)
+        if w.sum() - 2 * w.max() < 0:  # triangle inequality broken: isotropic, same trace
+            w = np.full(3, w.mean())
+        I = V @ np.diag(w) @ V.T
+        body.fullinertia = [I[0, 0], I[1, 1], I[2, 2], I[0, 1], I[0, 2], I[1, 2]]
+        notes.append(f"link '{body.name}': degenerate inertia replaced (mass {body.mass:g} kg and "
+                     f"CoM kept; principal moments {', '.join(f'{x:.3g}' for x in w)} kg m^2)")
+
+
 class FloatingBasePlant(FloatingBaseReadout):
     """A torque-controlled MuJoCo model of a floating-base (legged) URDF robot on a floor."""
 
     def __init__(self, urdf_path, overlay=None, *, timestep=None, slope_deg=None, floor=None,
-                 feet=None):
+                 feet=None, package_dirs=(), notes: list | None = None):
         """overlay: path to a sim.toml, a dict of its sections, or None for the defaults.
 
         timestep [s], slope_deg [deg] (ground rising along +x), floor (bool) and feet (link names)
         override the overlay; feet defaults to the overlay's [feet] bodies (FL, FR, RL, RR).
+        package_dirs: where package:// mesh URIs resolve; notes collects what the import changed
+        (meshes replaced, inertias repaired).
         """
         urdf_path = Path(urdf_path)
         cfg = _load_overlay(overlay)
@@ -84,7 +115,9 @@ class FloatingBasePlant(FloatingBaseReadout):
         self.nq = len(self.joint_names)
         self.effort = effort
 
-        spec = _spec_from_urdf(urdf_path, phys)
+        self.notes = [] if notes is None else notes
+        spec = _spec_from_urdf(urdf_path, phys, package_dirs, notes=self.notes)
+        _repair_inertias(spec, self.notes)
         # Friction cone and its stiffness: MuJoCo's soft friction lets a loaded foot creep; see
         # sim.toml for the measured creep under each setting.
         cone = str(phys["cone"]).lower()

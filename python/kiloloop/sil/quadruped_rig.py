@@ -24,11 +24,16 @@ class RigSettings:
     physics_dt: float = 0.001
     nonideal: NonIdealities = field(default_factory=NonIdealities)
     ground_truth: bool = False     # controller runs on the simulator's state (debugging only)
-    config: object = None          # kl.QuadrupedConfig; None = defaults
+    config: object = None          # kl.QuadrupedConfig; None = from the robot file
+    video: str | None = None       # MP4 path: render the run
 
 
 def quadruped_paths():
     return kl.model_files("quadruped")
+
+
+def default_robot():
+    return kl.Robot.load("quadruped")
 
 
 # command(t) -> (gait 0/1, velocity command (3,)); events: (time [s], action(plant)) run once.
@@ -36,15 +41,27 @@ CommandFn = Callable[[float], tuple[int, np.ndarray]]
 
 
 class QuadrupedRig:
-    def __init__(self, settings: RigSettings, seed: int = 0):
-        urdf, overlay = quadruped_paths()
+    def __init__(self, settings: RigSettings, seed: int = 0, robot=None):
+        from ..robot.quadruped import controller_config, plant_overlay
+
+        self.robot = default_robot() if robot is None else robot
         self.settings = settings
-        self.plant = FloatingBasePlant(urdf, overlay, timestep=settings.physics_dt,
-                                       slope_deg=settings.slope_deg)
-        self.model = kl.RobotModel.from_urdf(str(urdf))
-        config = settings.config if settings.config is not None else kl.QuadrupedConfig()
+        self.model = self.robot.model()
+        delay = settings.nonideal.motor_delay if settings.nonideal.enabled else 0.0
+        config = (settings.config if settings.config is not None
+                  else controller_config(self.robot, actuation_delay=delay))
         config.dt = CONTROL_DT
+        # The safe-stop tilt is measured from vertical; on a slope the trunk starts tilted by it
+        # (15 deg would trip the default 15 deg at once; measured: with it raised by the slope
+        # both robots stand on 15 deg).
+        config.max_tilt = config.max_tilt + float(np.deg2rad(abs(settings.slope_deg)))
         self.controller = kl.QuadrupedController(self.model, config)
+        self.config = self.controller.config  # everything derived filled in
+        # Below this trunk height the robot has fallen (half its standing height).
+        self.fall_height = 0.5 * self.config.body_height
+        self.plant = FloatingBasePlant(self.robot.urdf, plant_overlay(self.robot, self.controller),
+                                       timestep=settings.physics_dt, slope_deg=settings.slope_deg,
+                                       package_dirs=self.robot.package_dirs)
         # Joint order: the controller's (leg-major) vs the plant's (URDF); mapped by name.
         plant_index = {name: i for i, name in enumerate(self.plant.joint_names)}
         self.to_ctrl = np.array([plant_index[n] for n in self.controller.joint_names])
@@ -57,8 +74,20 @@ class QuadrupedRig:
 
     def run(self, duration: float, command: CommandFn, events=(), log: SignalLog | None = None,
             stop_when: Callable[[SignalLog], bool] | None = None) -> SignalLog:
+        from .video import maybe_recorder
+
         log = SignalLog() if log is None else log
         pending = sorted(events, key=lambda e: e[0])
+        inp, out, plant = self.input, self.output, self.plant
+        recorder = maybe_recorder(self.settings.video, plant.model, body=plant.model.body(plant.base_body).id)
+        try:
+            self._loop(duration, command, pending, log, stop_when, recorder)
+        finally:
+            if recorder is not None:
+                recorder.close()
+        return log
+
+    def _loop(self, duration, command, pending, log, stop_when, recorder):
         inp, out, plant = self.input, self.output, self.plant
         for k in range(int(round(duration / CONTROL_DT))):
             t = k * CONTROL_DT
@@ -69,7 +98,7 @@ class QuadrupedRig:
             inp.q[:], inp.qd[:] = q[self.to_ctrl], qd[self.to_ctrl]
             inp.gyro[:], inp.accel[:], inp.quat[:] = imu["gyro"], imu["accel"], imu["quat"]
             gait, v_cmd = command(t)
-            inp.gait, inp.velocity_command[:] = gait, v_cmd
+            inp.gait, inp.velocity_command[:] = kl.Gait(int(gait)), v_cmd
             pos, quat = plant.base_pose()
             vel, omega = plant.base_velocity()
             if self.settings.ground_truth:
@@ -80,9 +109,10 @@ class QuadrupedRig:
             plant.set_torque(self.settings.nonideal.saturate(tau, self.effort))
             self._record(log, t, status, pos, quat, vel, omega, v_cmd)
             plant.step(self.substeps)
+            if recorder is not None:
+                recorder.capture(plant.data)
             if stop_when is not None and stop_when(log):
                 break
-        return log
 
     def _record(self, log, t, status, pos, quat, vel, omega, v_cmd):
         out = self.output
@@ -127,7 +157,8 @@ COMMON_DEFAULTS = {
 }
 
 
-def rig_from_settings(settings: dict, seed: int, slope_deg: float = 0.0, config=None) -> QuadrupedRig:
+def rig_from_settings(settings: dict, seed: int, slope_deg: float = 0.0, config=None,
+                      robot=None) -> QuadrupedRig:
     nonideal = NonIdealities(enabled=settings["nonideal"], gyro_sigma=settings["gyro_sigma"],
                              accel_sigma=settings["accel_sigma"],
                              encoder_resolution=float(np.deg2rad(settings["encoder_resolution_deg"])),
@@ -135,7 +166,8 @@ def rig_from_settings(settings: dict, seed: int, slope_deg: float = 0.0, config=
     nonideal.validate()
     return QuadrupedRig(RigSettings(slope_deg=slope_deg, physics_dt=settings["physics_dt"],
                                     nonideal=nonideal, ground_truth=settings["ground_truth"],
-                                    config=config), seed=seed)
+                                    config=config, video=settings.get("video")),
+                        seed=seed, robot=robot)
 
 
 def heading_velocity(log) -> np.ndarray:
@@ -148,6 +180,7 @@ def heading_velocity(log) -> np.ndarray:
 
 
 def fallen(log, min_height: float = 0.15, max_tilt_deg: float = 45.0) -> bool:
+    """Trunk below min_height [m] (rigs: QuadrupedRig.fall_height) or tilted past max_tilt_deg."""
     roll, pitch = roll_pitch(log["base_quat"])
     tilt = np.degrees(np.arccos(np.clip(np.cos(roll) * np.cos(pitch), -1, 1)))
     return bool(np.any(log["base_pos"][:, 2] < min_height) or np.any(tilt > max_tilt_deg))

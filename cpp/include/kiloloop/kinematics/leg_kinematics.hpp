@@ -1,8 +1,14 @@
 #pragma once
 // Closed-form kinematics of a 3-DoF leg: hip abduction (about trunk x), hip pitch and knee
-// (both about y), the classic quadruped leg (MIT Cheetah, Unitree). Geometry is read from the
-// RobotModel's KDL tree at configure, so nothing about the robot is hard-coded:
-//   foot = p_abd + Rx(q0) * ( [0, l_abd, 0] + Ry(q1) * ( [0, 0, -l_thigh] + Ry(q2) [0, 0, -l_shank] ) )
+// (both about the abduction frame's y), the classic quadruped leg (MIT Cheetah, Unitree, Solo,
+// ANYmal). Geometry is read from the RobotModel's KDL tree at configure, so nothing about the
+// robot is hard-coded. In the abduction frame (rotated by q0 about x) the leg is planar:
+//   foot = p_abd + Rx(q0) * [ x(q1, q2),  l_abd,  h_abd + z(q1, q2) ]
+//   x = -l_thigh sin(q1 + a_thigh) - l_shank sin(q1 + q2 + a_shank)
+//   z = -l_thigh cos(q1 + a_thigh) - l_shank cos(q1 + q2 + a_shank)
+// l_abd sums every offset along the pitch axis (hip, thigh and shank offsets: they do not move
+// with q1, q2); a_thigh, a_shank are the thigh's and shank's angles from straight down at q = 0
+// (a knee or foot not straight below the hip). Joint axes along -x / -y flip the joint's sign.
 // All vectors in the trunk frame [m]; FK, Jacobian and IK are noexcept and allocation-free.
 #include <string>
 
@@ -13,19 +19,32 @@
 
 namespace kiloloop {
 
+// Which way the knee bends. Backward: the knee sits behind the hip-foot line (Unitree); forward:
+// in front of it (ANYmal's rear legs, Solo's front legs). kAuto reads it from the knee's joint
+// limits (the bend the limits allow; backward when they allow both).
+enum class KneeDirection { kAuto = 0, kBackward = 1, kForward = 2 };
+
 struct LegGeometry {
-  Eigen::Vector3d abd_origin = Eigen::Vector3d::Zero();  // [m] hip abduction axis point, trunk frame
+  Eigen::Vector3d abd_origin = Eigen::Vector3d::Zero();  // [m] abduction axis point at the pitch joint's x, trunk frame
   double l_abd = 0.0;     // [m] signed lateral offset abduction axis -> leg plane (+ left)
-  double l_thigh = 0.0;   // [m] hip pitch axis -> knee axis
-  double l_shank = 0.0;   // [m] knee axis -> foot point
+  double h_abd = 0.0;     // [m] offset abduction axis -> pitch axis along the abduction frame's z
+  double l_thigh = 0.0;   // [m] hip pitch axis -> knee axis, in the leg plane
+  double l_shank = 0.0;   // [m] knee axis -> foot point, in the leg plane
+  double a_thigh = 0.0;   // [rad] thigh angle from straight down at q = 0 (+ = foot towards -x)
+  double a_shank = 0.0;   // [rad] shank angle from straight down at q = 0
+  Eigen::Vector3d sign = Eigen::Vector3d::Ones();  // +1 / -1: joint axis along +x,+y / -x,-y
+  KneeDirection knee = KneeDirection::kBackward;   // resolved (never kAuto after configure)
   Eigen::Vector3d lower = Eigen::Vector3d::Constant(-1e9);  // [rad] joint limits
   Eigen::Vector3d upper = Eigen::Vector3d::Constant(1e9);
+  double length() const { return l_thigh + l_shank; }  // [m] fully stretched hip -> foot
 };
 
 // Reads the geometry of the chain trunk -> foot; fails with the reason when the chain is not
-// abduction(x) - pitch(y) - knee(y) with the knee and the foot straight below at q = 0.
+// abduction(+-x) - pitch(+-y) - knee(+-y), or when the closed form does not reproduce KDL's
+// forward kinematics. `knee` picks the bend (kAuto: from the knee limits).
 Status leg_geometry_from_model(const RobotModel& model, const std::string& trunk,
-                               const std::string& foot, LegGeometry* out, std::string* why);
+                               const std::string& foot, LegGeometry* out, std::string* why,
+                               KneeDirection knee = KneeDirection::kAuto);
 
 class LegKinematics {
  public:
@@ -36,8 +55,8 @@ class LegKinematics {
   Eigen::Vector3d foot_position(const Eigen::Vector3d& q) const noexcept;  // trunk frame
   Eigen::Matrix3d jacobian(const Eigen::Vector3d& q) const noexcept;       // d foot / d q
 
-  // Knee-backward solution (knee angle <= 0, as in the standing pose). Returns kUnreachable and
-  // leaves q untouched when the point is out of reach or the solution breaks a joint limit.
+  // The solution with the geometry's knee direction. Returns kUnreachable and leaves q untouched
+  // when the point is out of reach or the solution breaks a joint limit.
   Status inverse(const Eigen::Vector3d& foot, Eigen::Vector3d& q) const noexcept;
 
  private:

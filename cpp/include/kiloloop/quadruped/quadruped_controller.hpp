@@ -15,6 +15,7 @@
 #include "kiloloop/model/robot_model.hpp"
 #include "kiloloop/quadruped/contact_detector.hpp"
 #include "kiloloop/quadruped/gait_scheduler.hpp"
+#include "kiloloop/quadruped/in_flight.hpp"
 #include "kiloloop/quadruped/stance_force.hpp"
 #include "kiloloop/quadruped/state_estimator.hpp"
 #include "kiloloop/status.hpp"
@@ -24,49 +25,83 @@ namespace kiloloop {
 using Vector12d = Eigen::Matrix<double, 12, 1>;
 using Vector6d = Eigen::Matrix<double, 6, 1>;
 
+// Every default is generic or derived at configure from the model (masses, inertias, leg
+// geometry, effort limits) and the declared actuation delay; a field documented "0: derived" is
+// an override. QuadrupedController::config() returns the configuration with all of it resolved.
+// Robot-specific tuning lives in the robot file (models/<robot>/robot.toml, [controller]).
 struct QuadrupedConfig {
   std::string trunk_link = "trunk";
   std::array<std::string, 4> feet{"FL_foot", "FR_foot", "RL_foot", "RR_foot"};
+  // Knee bend per leg (FL, FR, RL, RR); kAuto: from the knee's joint limits.
+  std::array<KneeDirection, 4> knees{KneeDirection::kAuto, KneeDirection::kAuto,
+                                     KneeDirection::kAuto, KneeDirection::kAuto};
   double dt = 0.001;                  // [s] control period
-  double foot_radius = 0.02;          // [m] foot sphere radius (contact point below its centre)
-  double body_height = 0.30;          // [m] trunk origin above the ground, along world z
-  GaitConfig gait;
-  ContactConfig contact;
+  double foot_radius = 0.0;           // [m] foot sphere radius (contact point below its centre)
+  // [m] trunk origin above the ground, along world z. 0: derived so that each foot stands
+  // stand_extension of the leg's length straight below its hip pitch axis.
+  double body_height = 0.0;
+  double stand_extension = 0.58;      // [-] hip -> foot distance standing / (l_thigh + l_shank)
+  double crouch_extension = 0.30;     // [-] the same in the safe-stop crouch (raised if the limits forbid it)
+  // Gait period 0: derived by Froude scaling, 2.4 sqrt(leg length / g) (Go1: 0.50 s, a 0.28 m
+  // leg: 0.41 s; measured on both, 0.45 s rolled the light one 2.6 deg RMS at 0.3 m/s, 0.41 s 0.9).
+  GaitConfig gait{0.0, 0.6};
+  ContactConfig contact;              // force_on / force_off: set from contact_force_on/off
   EstimatorConfig estimator;
-  StanceForceConfig force;
-  // Trunk PD, as accelerations per unit error (multiplied by mass / inertia inside).
+  StanceForceConfig force;            // fz_min / fz_max: set from the weight fractions below
+  // Forces as fractions of the robot's weight m g (newtons at configure).
+  double contact_force_on = 0.145;    // [-] estimated normal force that confirms a touch-down
+  double contact_force_off = 0.058;   // [-] ... below which an unloading foot lifts off
+  double fz_min = 0.029;              // [-] least normal force of a stance foot
+  double fz_max = 1.74;               // [-] largest normal force of a stance foot
+  // Trunk PD, as accelerations per unit error (multiplied by mass / composite inertia inside):
+  // natural frequencies squared and 2 zeta omega. Bounded by the actuation delay (phase lag
+  // omega * delay at crossover); the feedback acts on the state predicted over the delay.
   Eigen::Vector3d kp_position{20.0, 20.0, 300.0};  // [1/s^2] x, y (integrated velocity command), z
   Eigen::Vector3d kd_velocity{8.0, 8.0, 35.0};     // [1/s]
-  // Roll/pitch gains are bounded by the 10 ms motor delay. With the force QP realizing the moment
-  // about the diagonal support line (wrench_weight), 500/35 oscillates and falls in SIL; 250/20
-  // gives the smallest trot roll measured (RMS 0.15 deg at 0.5 m/s, noise and delay on).
   Eigen::Vector3d kp_orientation{250.0, 250.0, 150.0};  // [1/s^2] roll, pitch, yaw (body axes)
   Eigen::Vector3d kd_angular{20.0, 20.0, 20.0};    // [1/s]
+  // [rad] phase the delay may take at a trunk loop's natural frequency: a frequency sqrt(kp)
+  // above trunk_delay_margin / (actuation_delay + dt) is lowered to it, the damping ratio kept
+  // (measured: Go1 standing with a 35 ms delay oscillates in roll at 10 Hz with 250/20 and
+  // stands with 100/12.6; at 10 ms nothing is lowered).
+  double trunk_delay_margin = 0.36;
   // Swing legs.
-  double swing_height = 0.08;         // [m] apex above the line lift-off -> touch-down
-  // [s] foothold shift per m/s of velocity error. The capture-point value sqrt(h/g) is 0.175; with
-  // the feet landing ~30 ms early and the 10 ms delay, 0.13 recovered 12 N s pushes with 4 of 4
-  // seeds (0.15: 2 of 4; 0.17: 0 of 2) and tracks 1 m/s better (measured in SIL).
-  double raibert_gain = 0.13;
-  double touchdown_depth = 0.01;      // [m] aim this far below the ground to make contact
+  double swing_height = 0.0;          // [m] apex above lift-off -> touch-down; 0: 0.16 leg lengths
+  // [s] foothold shift per m/s of velocity error (capture-point value sqrt(h/g) shortened for
+  // the feet landing early; 0.13 measured best on the 17.6 kg model, a fraction 0.75 of sqrt(h/g)).
+  double raibert_gain = 0.0;          // 0: 0.75 sqrt(body_height / g)
+  double touchdown_depth = 0.0;       // [m] aim this far below the ground; 0: 0.02 leg lengths
   bool swing_reaction_feedforward = true;  // stance forces also cancel the swing motors' reaction
   // [m] trunk-frame shift of all footholds from their nominal place: under the hips, moved along
   // x to the whole-robot CoM so that each diagonal support line passes through it.
   Eigen::Vector2d foothold_shift = Eigen::Vector2d::Zero();
-  // Swing gains are limited by the motor command delay (10 ms by default in SIL): with the light
-  // shank, kd above ~1 N m s/rad turns the delayed derivative action unstable. The abduction
-  // torque of a swing leg reacts on the trunk as a roll moment that the stance feet do not see
-  // coming: abduction 40/0.8 made the trot roll +-1.1 deg, 20/0.4 +-0.7 deg (measured).
-  Eigen::Vector3d swing_kp{20.0, 40.0, 20.0};  // [N m/rad] abduction, pitch, knee
-  Eigen::Vector3d swing_kd{0.4, 0.8, 0.4};     // [N m s/rad]
+  // Swing joint PD from a natural frequency and damping ratio on each joint's own inertia (the
+  // leg's joint-space mass matrix diagonal at the standing pose). The delayed derivative action
+  // limits them: a joint's natural frequency (given gains included) above
+  // swing_delay_margin / (actuation_delay + dt) is lowered to it, its damping ratio kept.
+  double swing_frequency = 30.0;      // [rad/s]
+  double swing_damping = 0.7;         // [-]
+  double swing_delay_margin = 0.55;   // [rad] omega * delay (the 17.6 kg model's knee: 50 rad/s at 10 ms)
+  // Swing joints also get I qdd of the swing trajectory (joint inertia diagonal x the joint
+  // acceleration the foot's reference acceleration asks for), the reference taken one delay
+  // ahead. Off by default: measured at 10 ms it sped the trot up (0.51 -> 0.55 m/s at 0.5) and
+  // tipped the light robot over; at 35 ms it did not save the trot either.
+  bool swing_feedforward = false;
+  Eigen::Vector3d swing_kp = Eigen::Vector3d::Zero();  // [N m/rad] abd, pitch, knee; 0: derived
+  Eigen::Vector3d swing_kd = Eigen::Vector3d::Zero();  // [N m s/rad]; 0: derived
   double max_acceleration = 1.0;      // [m/s^2] ramp on the commanded velocity
   // [m] how far the horizontal position target may lead or trail the trunk: it integrates the
   // velocity command (no steady velocity error), but after a push the robot should not walk back
   // the whole way, only settle.
   double max_position_lag = 0.05;
   // [s] known command-to-motor latency: feedback uses the state predicted this far ahead
-  // (0 disables; SIL's default motor delay is 10 ms).
+  // (0 disables).
   double actuation_delay = 0.010;
+  // How the state is predicted over the delay. true: with the model (composite mass and inertia)
+  // and the trunk accelerations commanded in the last actuation_delay seconds, still in flight
+  // (a Smith predictor), and contact forces estimated from the torque acting now, not the one
+  // just sent; false: first order (x + delay * xdot) only.
+  bool predict_in_flight = true;
   // [s] the estimator's trust in a stance leg ramps up over this time after touch-down and down
   // over this time before its scheduled lift-off (a landing foot still sinks in).
   double trust_ramp = 0.03;
@@ -75,15 +110,20 @@ struct QuadrupedConfig {
   double load_ramp = 0.03;
   // Safety.
   double max_tilt = 15.0 * 3.14159265358979323846 / 180.0;  // [rad] trunk tilt that trips safe stop
-  Eigen::Vector3d stand_pose{0.0, 0.9, -1.8};  // [rad] per leg: nominal standing joints (CoM, IK seed)
-  Eigen::Vector3d crouch{0.0, 1.3, -2.6};  // [rad] per leg: safe-stop posture
-  double safe_kp = 15.0;              // [N m/rad] soft pull to the crouch
-  double safe_kd = 1.5;               // [N m s/rad] joint damping in safe stop
+  // Safe stop: a soft pull to the crouch, stiffness as a fraction of each joint's effort limit
+  // per radian, damping over a time constant.
+  double safe_stiffness = 0.4;        // [1/rad] kp_j = safe_stiffness * effort_j
+  double safe_time_constant = 0.1;    // [s] kd_j = safe_time_constant * kp_j
+  double safe_kp = 0.0;               // [N m/rad] override (0: derived)
+  double safe_kd = 0.0;               // [N m s/rad] override (0: derived)
   double max_measurement_age = 0.005; // [s]
-  // Model overrides (0/empty: from the model): trunk mass and inertia used by the wrench.
+  // Model overrides (0: from the model): total mass and composite inertia used by the wrench.
   double mass = 0.0;                  // [kg] total robot mass
-  Eigen::Vector3d inertia_diag = Eigen::Vector3d::Zero();  // [kg m^2] trunk + legs, body axes
+  Eigen::Vector3d inertia_diag = Eigen::Vector3d::Zero();  // [kg m^2] whole robot about its CoM, trunk axes
 };
+
+// Once, at configure: ranges and consistency; the reason in *why.
+Status validate(const QuadrupedConfig& config, std::string* why);
 
 struct QuadrupedInput {
   double t = 0.0;         // [s] controller time
@@ -94,7 +134,7 @@ struct QuadrupedInput {
   Eigen::Vector3d accel = Eigen::Vector3d(0, 0, 9.81);  // [m/s^2] specific force, body frame
   Eigen::Vector4d quat = Eigen::Vector4d(1, 0, 0, 0);   // IMU orientation w, x, y, z (world <- body)
   // Command.
-  int gait = 0;                                      // 0 stand, 1 trot
+  Gait gait = Gait::kStand;
   Eigen::Vector3d velocity_command = Eigen::Vector3d::Zero();  // [m/s, m/s, rad/s] vx, vy (heading frame), yaw rate
   // Debugging: run on ground truth instead of the estimate.
   bool use_ground_truth = false;
@@ -131,10 +171,48 @@ class QuadrupedController {
   const Vector12d& effort_limit() const { return effort_; }
   double mass() const { return mass_; }
   const LegKinematics& leg(int i) const { return legs_[i]; }
+  // The configuration with everything derived filled in (body_height, gains, thresholds...).
+  const QuadrupedConfig& config() const { return cfg_; }
+  const Vector12d& stand_pose() const { return stand_q_; }   // [rad] derived standing joints
+  const Vector12d& crouch_pose() const { return crouch_q_; } // [rad] safe-stop posture
+  const Eigen::Vector3d& com() const { return com_; }        // [m] whole-robot CoM standing, trunk frame
+  const Eigen::Matrix3d& inertia() const { return inertia_; } // [kg m^2] composite, about the CoM
   void reset_safe_stop() noexcept { safe_stop_ = false; }
 
  private:
+  // Per-tick scratch: what one stage of run() hands to the next (fixed size, in the workspace).
+  struct Tick {
+    Status status = Status::kOk;
+    Eigen::Vector3d command = Eigen::Vector3d::Zero();  // [m/s, m/s, rad/s] validated command
+    Gait requested = Gait::kStand;
+    Eigen::Quaterniond q_imu = Eigen::Quaterniond::Identity();
+    std::array<LegMeasurement, kLegs> meas{};
+    std::array<Eigen::Matrix3d, kLegs> J{};          // foot Jacobians, trunk frame
+    std::array<Eigen::Vector3d, kLegs> tau_gravity{}; // [N m] per leg
+    std::array<double, kLegs> normal_force{}, clearance{}, load{};  // [N], [m], [-]
+    std::array<bool, kLegs> stance{};                // scheduled and detected on the ground
+    int n_stance = 0;
+    Eigen::Matrix3d R = Eigen::Matrix3d::Identity(); // world <- trunk, estimated
+    Eigen::Vector3d p = Eigen::Vector3d::Zero(), v = Eigen::Vector3d::Zero();  // world [m], [m/s]
+    Eigen::Vector3d w_body = Eigen::Vector3d::Zero(); // [rad/s] trunk frame
+    Eigen::Vector3d v_des = Eigen::Vector3d::Zero();  // [m/s] world
+    Vector6d wrench = Vector6d::Zero();              // desired [F; tau] at the CoM, world
+    Eigen::Vector3d swing_reaction = Eigen::Vector3d::Zero();  // [N m] trunk frame
+    Vector6d accel = Vector6d::Zero();  // [m/s^2; rad/s^2] world: what this tick's command does to the trunk
+  };
+
   Status run(const QuadrupedInput& in, QuadrupedOutput& out) noexcept;
+  // The stages of run(), in order.
+  bool read_inputs(const QuadrupedInput& in, QuadrupedOutput& out) noexcept;
+  void leg_kinematics(const QuadrupedInput& in) noexcept;
+  void detect_contacts(const QuadrupedInput& in, QuadrupedOutput& out) noexcept;
+  void estimate_state(const QuadrupedInput& in, QuadrupedOutput& out) noexcept;
+  bool safety_stop(const QuadrupedInput& in, QuadrupedOutput& out) noexcept;
+  void trunk_reference() noexcept;
+  void trunk_wrench(QuadrupedOutput& out) noexcept;
+  void swing_legs(const QuadrupedInput& in, QuadrupedOutput& out) noexcept;
+  void distribute_forces(QuadrupedOutput& out) noexcept;
+  void stance_legs(QuadrupedOutput& out) noexcept;
   void safe_output(const QuadrupedInput& in, Vector12d& tau) const noexcept;
   void saturate(Vector12d& tau, Status* status) const noexcept;
 
@@ -144,6 +222,9 @@ class QuadrupedController {
   std::array<LegGravity, kLegs> leg_gravity_;
   std::array<std::string, 12> joint_names_;
   Vector12d effort_ = Vector12d::Zero();
+  Vector12d stand_q_ = Vector12d::Zero(), crouch_q_ = Vector12d::Zero();
+  Vector12d safe_kp_ = Vector12d::Zero(), safe_kd_ = Vector12d::Zero();
+  Eigen::Vector3d swing_inertia_ = Eigen::Vector3d::Zero();  // [kg m^2] joint inertia diagonal, standing
   double mass_ = 0.0;
   Eigen::Vector3d com_ = Eigen::Vector3d::Zero();  // [m] whole-robot CoM, trunk frame, standing
   Eigen::Matrix3d inertia_ = Eigen::Matrix3d::Identity();
@@ -151,7 +232,12 @@ class QuadrupedController {
   ContactDetector contacts_;
   StateEstimator estimator_;
   StanceForceQp force_qp_;
-  // Per-tick state carried across ticks.
+  Tick tick_;
+  // Commands in flight to the motors (actuation_delay / dt ticks): joint torques, and the trunk
+  // accelerations [linear; angular] (world) they command.
+  InFlight<Vector12d> tau_in_flight_;
+  InFlight<Vector6d> accel_in_flight_;
+  // State carried across ticks.
   Vector12d tau_prev_ = Vector12d::Zero();
   Vector12d f_ = Vector12d::Zero();
   std::array<bool, kLegs> was_stance_{true, true, true, true};

@@ -1,0 +1,122 @@
+"""Any 12-DoF quadruped from a minimal robot file (name, kind, urdf, package_dirs, [legs]):
+derivation checked against Pinocchio, a clear error for swapped feet, MuJoCo accepts Go1's dummy
+root link, and a generated light quadruped (knee offsets along the hip axis, forward knees)
+stands and trots in SIL."""
+import numpy as np
+import pytest
+
+import kiloloop as kl
+from kiloloop import scenarios
+from kiloloop.robot.quadruped import controller_config, plant_overlay
+from kiloloop.sil.floating_plant import FloatingBasePlant
+
+from quadruped_robots import (go1_robot_file, light_quadruped_urdf, minimal_robot_file,
+                              pinocchio_com_and_inertia)
+
+
+def controller_for(robot):
+    return kl.QuadrupedController(robot.model(), controller_config(robot))
+
+
+def assert_criteria(result):
+    for name, c in result.criteria.items():
+        assert c["passed"], f"{result.scenario}: {name} = {c['value']} (needs {c['op']} {c['threshold']})"
+
+
+@pytest.fixture(scope="module")
+def go1(tmp_path_factory):
+    path = go1_robot_file(tmp_path_factory.mktemp("go1"))
+    if path is None:
+        pytest.skip("example-robot-data not installed")
+    return kl.Robot.load(path)
+
+
+@pytest.fixture(scope="module")
+def light(tmp_path_factory):
+    d = tmp_path_factory.mktemp("light")
+    urdf = light_quadruped_urdf(d / "light_dog.urdf")
+    return kl.Robot.load(minimal_robot_file(d, "light_dog", urdf))
+
+
+@pytest.mark.parametrize("which", ["go1", "light", "quadruped"])
+def test_composite_inertia_and_com_match_pinocchio(which, request):
+    pytest.importorskip("pinocchio")
+    robot = kl.Robot.load("quadruped") if which == "quadruped" else request.getfixturevalue(which)
+    c = controller_for(robot)
+    q = dict(zip(c.joint_names, np.asarray(c.stand_pose)))
+    com, inertia, mass = pinocchio_com_and_inertia(robot.urdf, q, robot.section("legs")["base"])
+    assert c.mass == pytest.approx(mass, rel=1e-9)
+    np.testing.assert_allclose(c.com, com, atol=1e-9)
+    np.testing.assert_allclose(c.inertia, inertia, atol=1e-9)
+
+
+def test_light_robot_derivation(light):
+    c = controller_for(light)
+    d = c.config
+    assert 2.4 < d.mass < 2.7
+    assert d.foot_radius == pytest.approx(0.012)
+    assert all(k == kl.KneeDirection.FORWARD for k in d.knees)
+    # Forward knees: the knee joint bends positive, the thigh leans back.
+    stand = np.asarray(c.stand_pose).reshape(4, 3)
+    assert np.all(stand[:, 2] > 0) and np.all(stand[:, 1] < 0)
+    # Each foot below its hip at the derived height, the knee offset along the hip axis included.
+    for i in range(4):
+        foot = c.foot_position(i, stand[i])
+        assert foot[2] == pytest.approx(-(d.body_height - d.foot_radius), abs=1e-9)
+
+
+def test_swapped_feet_are_refused_with_the_reason(tmp_path, go1):
+    feet = ["FR_foot", "FL_foot", "RL_foot", "RR_foot"]
+    robot = kl.Robot.load(minimal_robot_file(tmp_path, "go1_swapped", go1.urdf, go1.package_dirs,
+                                             feet=feet))
+    with pytest.raises(ValueError, match="'FR_foot' is listed as front-left"):
+        controller_for(robot)
+
+
+def test_go1_plant_repairs_the_dummy_root_and_keeps_mass(go1):
+    c = controller_for(go1)
+    plant = FloatingBasePlant(go1.urdf, plant_overlay(go1, c), package_dirs=go1.package_dirs)
+    assert any("degenerate inertia" in n for n in plant.notes)
+    assert float(np.sum(plant.model.body_mass)) == pytest.approx(c.mass, rel=1e-6)
+    # Start height from the geometry: the feet touch the floor.
+    bottom = plant.foot_positions()[:, 2] - c.config.foot_radius
+    assert np.max(np.abs(bottom)) < 1e-6
+
+
+# The light robot trots at 0.3 m/s: its 0.28 m legs at 0.5 m/s would be a Froude number
+# v^2 / (g L) of 0.09, against 0.05 for the 17.6 kg model at 0.5 m/s (0.3 m/s: 0.033). Measured:
+# at 0.5 m/s it rolls +-3 deg and falls with the 10 ms delay (the swing legs' own torques read as
+# early touch-downs at its 3.6 N contact threshold).
+@pytest.mark.parametrize("name,sets", [("quadruped-stand", {}), ("quadruped-trot", {"speed": 0.3})])
+def test_light_robot_stands_and_trots(light, name, sets):
+    r = scenarios.run_named(name, light, sets, seed=0, duration=6.0 if name == "quadruped-trot" else 3.0)
+    print(name, {k: round(v, 4) for k, v in r.metrics.items() if isinstance(v, float)})
+    assert_criteria(r)
+
+
+@pytest.mark.parametrize("name", ["quadruped-stand", "quadruped-trot", "quadruped-push",
+                                  "quadruped-slope", "quadruped-tilt-stop"])
+def test_go1_from_a_minimal_robot_file(go1, name):
+    duration = {"quadruped-trot": 6.0, "quadruped-stand": 2.0, "quadruped-slope": 3.0}.get(name)
+    r = scenarios.run_named(name, go1, seed=0, duration=duration)
+    print(name, {k: round(v, 4) for k, v in r.metrics.items() if isinstance(v, float)})
+    assert_criteria(r)
+
+
+# 35 ms command delay: standing holds on both robots (the state predicted over the delay with the
+# commands in flight, loop bandwidths bounded by the delay). Trotting at 35 ms does not pass yet
+# (see bench/quadruped_matrix.md).
+@pytest.mark.parametrize("which", ["quadruped", "go1"])
+def test_stands_with_a_35ms_command_delay(which, request):
+    robot = kl.Robot.load("quadruped") if which == "quadruped" else request.getfixturevalue(which)
+    r = scenarios.run_named("quadruped-stand", robot, {"motor_delay": 0.035}, seed=0, duration=2.0)
+    print(which, r.metrics)
+    assert_criteria(r)
+
+
+@pytest.mark.parametrize("which", ["quadruped", "go1"])
+def test_stands_on_a_15_degree_slope(which, request):
+    robot = kl.Robot.load("quadruped") if which == "quadruped" else request.getfixturevalue(which)
+    r = scenarios.run_named("quadruped-slope", robot, {"slope_deg": 15.0}, seed=0)
+    print(which, r.metrics)
+    assert_criteria(r)
