@@ -1,8 +1,10 @@
 #!/usr/bin/env bash
-# Installs the Debian packages the C++ core builds against, when any is missing.
+# Installs the Debian packages the C++ core builds against (and video rendering needs), when any
+# is missing.
 # As root: apt-get installs them. Otherwise: prints the exact command and fails.
 set -euo pipefail
-packages=(libeigen3-dev liborocos-kdl-dev liburdfdom-dev libkdl-parser-dev libgtest-dev g++)
+# libosmesa6: CPU OpenGL for `--video` (MuJoCo offscreen rendering with MUJOCO_GL=osmesa).
+packages=(libeigen3-dev liborocos-kdl-dev liburdfdom-dev libkdl-parser-dev libgtest-dev g++ libosmesa6)
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

@@ -58,7 +58,7 @@ def test_cartesian_controllers_bad_input_from_python():
     model = kl.RobotModel.from_urdf(str(kl.models_dir() / "ur5" / "ur5.urdf"))
     for c in (kl.HybridForcePositionController(model), kl.CartesianImpedanceController(model)):
         inp, out = c.make_input(), c.make_output()
-        inp.q[:] = arm_press.DEFAULTS["q0"]
+        inp.q[:] = scenarios.prepare(arm_press)[1]["q0"]  # the UR5's pressing pose
         T = kl.Dynamics(model).forward_kinematics(inp.q)
         inp.p_ref[:], inp.R_ref = T[:3, 3], T[:3, :3]
         assert c.step(inp, out) == kl.Status.OK

@@ -32,8 +32,10 @@ def test_planned_motion_passes_its_criteria(planned):
 def test_the_box_blocks_the_straight_path():
     # The planner's capsule model says so ...
     model = kl.RobotModel.from_urdf(str(kl.models_dir() / "ur5" / "ur5.urdf"))
-    checker = arm_rrt.make_checker(model, kl.models_dir() / "ur5" / "ur5.urdf", arm_rrt.DEFAULTS)
-    q0, q1 = (np.array(arm_rrt.DEFAULTS[k]) for k in ("q_start", "q_goal"))
+    _, settings = scenarios.prepare(arm_rrt)  # the UR5's robot file gives start, goal and box
+    capsules = kl.capsules_from_urdf(str(kl.models_dir() / "ur5" / "ur5.urdf"), model)
+    checker = arm_rrt.make_checker(model, capsules, settings)
+    q0, q1 = (np.array(settings[k]) for k in ("q_start", "q_goal"))
     assert checker.is_free(q0) and checker.is_free(q1)
     assert not checker.segment_free(q0, q1, 0.01)
     # ... and MuJoCo agrees: driving straight through makes contact with the box.

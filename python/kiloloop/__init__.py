@@ -4,8 +4,14 @@ The compiled core lives in `kiloloop._core`; its classes are re-exported here so
 `import kiloloop as kl; kl.RobotModel.from_urdf(...)` works. The SIL plant, loop, scenarios and
 CLI are pure Python around that core.
 """
+import os as _os
 from importlib.resources import files as _files
 from pathlib import Path as _Path
+
+# MuJoCo picks its OpenGL platform when it is first imported: without a screen, render offscreen
+# on the CPU (Debian's libosmesa6), which `--video` needs. A user's own MUJOCO_GL wins.
+if not (_os.environ.get("DISPLAY") or _os.environ.get("WAYLAND_DISPLAY")):
+    _os.environ.setdefault("MUJOCO_GL", "osmesa")
 
 from ._core import *  # noqa: F401,F403
 from ._core import __version__  # noqa: F401

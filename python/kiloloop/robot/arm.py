@@ -91,7 +91,7 @@ def summary(robot, model) -> list[str]:
     from ..sil.arm_rig import build_plant, reach, work_pose
 
     q0 = start_pose(robot, model)
-    plant = build_plant(robot)
+    plant = build_plant(robot, visual=True)  # visual too: its notes say what a video shows
     qw = work_pose(robot, model, plant)
     kp, kd = joint_gains(robot, model, "computed_torque", q0)
     kp_pd, _ = joint_gains(robot, model, "pd_gravity", q0)

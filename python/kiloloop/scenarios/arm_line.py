@@ -75,7 +75,7 @@ def run(settings: dict, seed: int = 0, duration: float | None = None,
     q0 = np.asarray(settings["q_start"], float) if len(settings["q_start"]) else work_pose(
         robot, model, plant)
     if not len(settings["displacement"]) or not len(settings["rotation"]):
-        d, r = line_target(rig, q0)
+        d, r = line_target(rig, q0, settings["line_duration"])
         settings = dict(settings, displacement=settings["displacement"] or d.tolist(),
                         rotation=settings["rotation"] or r.tolist())
     plant.q0 = q0

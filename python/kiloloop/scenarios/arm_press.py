@@ -1,10 +1,12 @@
-"""arm-press: the UR5 presses on a table with 10 N while sliding 10 cm along x.
+"""arm-press: an arm presses on a table with 10 N while sliding along x.
 
 Hybrid force/position control (C++): z is force-controlled (the wrench the tool applies on the
 table, from a MuJoCo force sensor between the tool tip and the flange), x, y and the orientation
 are motion-controlled (selection matrix diag(1, 1, 0, 1, 1, 1) in the world frame). The tool tip
 is a 1 cm sphere 3 cm below the flange, starting 1 mm above the table; after `settle` seconds the
-reference slides 10 cm along x on a quintic, with the table's Coulomb friction opposing it.
+reference slides along x (10 cm on the UR5; 5 % of the reach unless the robot file says) on a
+quintic, with the table's Coulomb friction opposing it. Any arm: the pressing pose is the work
+pose turned tool-down by the IK (the UR5's robot file gives its own).
 `--set controller=impedance` runs the Cartesian impedance controller instead, with the reference
 pushed 10 N / K_z below the surface (no force feedback): for comparison.
 """
@@ -16,19 +18,19 @@ import numpy as np
 import kiloloop as kl
 
 from ..sil import arm_scene
+from ..sil.arm_adapters import PressTick
+from ..sil.arm_rig import ArmRig, line_feasible, work_pose
 from ..sil.log import SignalLog
-from ..sil.loop import LoopSettings, Measurement, run_loop
-from ..sil.plant import MujocoPlant
 from . import ScenarioResult, evaluate
 
 NAME = "arm-press"
-DESCRIPTION = "UR5 presses a table with 10 N while sliding 10 cm along x (hybrid force/position)"
+DESCRIPTION = "arm presses a table with 10 N while sliding along x (hybrid force/position)"
 DURATION = 3.5  # [s]
 DEFAULTS = {
     "controller": "hybrid",         # or "impedance"
-    "q0": [0.0, -1.2, 1.6, -1.97, -1.57, 0.0],   # [rad] tool pointing down above the table
+    "q0": [],                       # [rad] tool pointing down above the table; empty: derived
     "force": 10.0,                  # [N] pressing force (downwards)
-    "slide": 0.10,                  # [m] along +x
+    "slide": 0.0,                   # [m] along +x of the chain root; 0: 5 % of the reach
     "settle": 0.5,                  # [s] before the slide starts (contact is made and settles)
     "slide_time": 2.0,              # [s]
     "gap": 0.001,                   # [m] tip above the table at the start
@@ -52,48 +54,8 @@ DEFAULTS = {
 CRITERIA = {
     "max_force_error_N": ("<", 0.5),
     "max_x_error_m": ("<", 0.002),
-    "slide_m": (">", 0.0999),
+    "slide_fraction": (">", 0.999),  # of the commanded slide
 }
-
-
-def _quintic(s):
-    """Rest-to-rest blend on s in [0, 1]: value, first and second derivative w.r.t. s."""
-    s = min(max(s, 0.0), 1.0)
-    return (10 * s**3 - 15 * s**4 + 6 * s**5, 30 * s**2 - 60 * s**3 + 30 * s**4,
-            60 * s - 180 * s**2 + 120 * s**3)
-
-
-class PressTick:
-    """Maps measurement, force sensor and the slide reference onto the controller (glue only)."""
-
-    def __init__(self, controller, plant, tip, p0, R0, settings):
-        self.c, self.plant, self.tip, self.settings = controller, plant, tip, settings
-        self.input, self.output = controller.make_input(), controller.make_output()
-        self.p0 = p0
-        self.input.R_ref = R0
-        self.input.wrench_ref = np.array([0.0, 0.0, -settings["force"], 0.0, 0.0, 0.0])
-
-    def reference(self, t):
-        st = self.settings
-        s, ds, dds = _quintic((t - st["settle"]) / st["slide_time"])
-        T = st["slide_time"]
-        return (self.p0[0] + st["slide"] * s, st["slide"] * ds / T, st["slide"] * dds / T**2)
-
-    def __call__(self, m: Measurement, log: SignalLog) -> np.ndarray:
-        inp = self.input
-        inp.t, inp.stamp = m.t, m.stamp
-        inp.q[:], inp.qd[:] = m.q, m.qd
-        x, xd, xdd = self.reference(m.t)
-        inp.p_ref[:] = [x, self.p0[1], self.p0[2]]
-        inp.twist_ref[0], inp.accel_ref[0] = xd, xdd
-        force = arm_scene.tip_force_world(self.plant, self.tip)  # sampled with q (same stamp)
-        inp.wrench_measured[:3] = force
-        status = self.c.step(inp, self.output)
-        log.record("x_ref", x)
-        log.record("force", force)
-        log.record("tau", self.output.tau)
-        log.record("status", int(status))
-        return self.output.tau.copy()
 
 
 _CONES = {"elliptic": mujoco.mjtCone.mjCONE_ELLIPTIC, "pyramidal": mujoco.mjtCone.mjCONE_PYRAMIDAL}
@@ -114,14 +76,56 @@ def _make_controller(model, settings):
     raise ValueError(f"controller: expected 'hybrid' or 'impedance', got {settings['controller']!r}")
 
 
-def run(settings: dict, seed: int = 0, duration: float | None = None) -> ScenarioResult:
+SLIDE = 0.05  # of the reach, when the settings give none
+
+
+def press_pose(rig, settings) -> tuple[np.ndarray, float]:
+    """(q0 [rad], slide [m]): a pose near the work pose with the tool's z axis pointing down
+    (IK from the work pose), from which the IK can follow the slide along +x."""
+    model = rig.model
+    slide = float(settings["slide"]) or SLIDE * reach_of(rig)
+    if len(settings["q0"]):
+        return np.asarray(settings["q0"], dtype=float), slide
+    q_work = work_pose(rig.robot, model, rig.plant)
+    T = kl.Dynamics(model).forward_kinematics(q_work)
+    R_world_root = rig.T_world_root()[:3, :3]
+    down = R_world_root.T @ np.array([0.0, 0.0, -1.0])   # world -z in the root frame
+    x = T[:3, 0] - down * (T[:3, 0] @ down)
+    if np.linalg.norm(x) < 1e-6:
+        x = np.cross(down, [0.0, 1.0, 0.0])
+    x /= np.linalg.norm(x)
+    T_press = T.copy()
+    T_press[:3, :3] = np.column_stack([x, np.cross(down, x), down])
+    q0, status = kl.ArmIk(model).solve(T_press, q_work)
+    if int(status) < 0:
+        raise ValueError(f"{rig.robot.name}: no IK solution with the tool pointing down")
+    if not line_feasible(model, q0, [slide, 0.0, 0.0], [0.0, 0.0, 0.0],
+                         float(settings["slide_time"])):
+        raise ValueError(f"{rig.robot.name}: the IK cannot follow a {slide:.3f} m slide along +x "
+                         f"from the pressing pose")
+    return q0, slide
+
+
+def reach_of(rig) -> float:
+    from ..sil.arm_rig import reach
+
+    return reach(rig.plant)
+
+
+def run(settings: dict, seed: int = 0, duration: float | None = None,
+        robot=None) -> ScenarioResult:
     del seed  # deterministic
-    urdf, overlay = kl.model_files("ur5")
-    model = kl.RobotModel.from_urdf(str(urdf))
-    q0 = np.asarray(settings["q0"], dtype=float)
-    tip = arm_scene.ToolTip(friction=settings["friction"])
+    robot = robot or kl.Robot.load("ur5")
+    tip = arm_scene.ToolTip(parent=robot.section("chain")["tip"], friction=settings["friction"])
     # Where the tip starts decides where the table goes: its top `gap` below the tip sphere.
-    probe = MujocoPlant(urdf, overlay, scene=tip)
+    probe = ArmRig(robot, scene=tip)
+    model = probe.model
+    q0, slide = press_pose(probe, settings)
+    settings = dict(settings, q0=q0.tolist(), slide=slide)
+    if not np.allclose(probe.T_world_root()[:3, :3], np.eye(3), atol=1e-9):
+        # The force axis and the slide are world z and x, the controller's the root's.
+        raise ValueError(f"arm-press: the chain root of {robot.name} must be level with the world")
+    probe = probe.plant
     probe.reset(q0)
     tip_z = probe.data.xpos[probe.model.body(tip.body).id][2] - tip.radius
     top = tip_z - settings["gap"]
@@ -135,9 +139,12 @@ def run(settings: dict, seed: int = 0, duration: float | None = None) -> Scenari
                             friction=settings["friction"],
                             solref=settings["solref"] or None, solimp=settings["solimp"] or None)
 
-    plant = MujocoPlant(urdf, overlay, scene=scene)
-    plant.reset(q0)
+    rig = ArmRig(robot, scene=scene, video=settings.get("video"))
+    plant = rig.plant
+    plant.q0 = q0
+    plant.reset()
     controller = _make_controller(model, settings)
+    # Chain root frame = world orientation (checked above): the task axes are the root's.
     T0 = kl.Dynamics(model).forward_kinematics(q0)
     p0, R0 = T0[:3, 3].copy(), T0[:3, :3].copy()
     if settings["controller"] == "impedance":
@@ -146,11 +153,10 @@ def run(settings: dict, seed: int = 0, duration: float | None = None) -> Scenari
         p0 = p0 - np.array([0.0, 0.0, settings["gap"] + settings["force"] / k_z])
     tick = PressTick(controller, plant, tip, p0, R0, settings)
 
-    def observe(p: MujocoPlant, log: SignalLog) -> None:
+    def observe(p, log: SignalLog) -> None:
         log.record("ee", p.ee_pose()[0])
 
-    log = run_loop(plant, tick, LoopSettings(duration=DURATION if duration is None else duration),
-                   observe=observe)
+    log = rig.run(tick, DURATION if duration is None else duration, observe=observe)
     t = log["t"]
     after = t >= settings["measure_from"]
     fz = -log["force"][:, 2]  # pressing force, positive down
@@ -161,6 +167,7 @@ def run(settings: dict, seed: int = 0, duration: float | None = None) -> Scenari
         "mean_force_N": float(fz[after].mean()),
         "max_x_error_m": float(np.abs(x_err[after]).max()),
         "slide_m": float(log["ee"][-1, 0] - log["ee"][0, 0]),
+        "slide_fraction": float((log["ee"][-1, 0] - log["ee"][0, 0]) / slide),
         "max_tangential_force_N": float(np.abs(log["force"][after][:, :2]).max()),
         "failed_ticks": int(np.sum(log["status"] < 0)),
         "saturated_ticks": int(np.sum(log["status"] == int(kl.Status.SATURATED))),

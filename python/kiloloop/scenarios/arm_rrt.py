@@ -1,11 +1,15 @@
-"""arm-rrt: the UR5 moves between two configurations around a box that blocks the straight path.
+"""arm-rrt: an arm moves between two configurations around a box that blocks the straight path.
 
-Planning (C++): the links as capsules bounding the URDF collision cylinders, the box and the floor
+Planning (C++): the links as capsules bounding the URDF collision geometry (primitives, or
+capsules fitted to the collision meshes, or the robot file's [collision] capsules), the box and the floor
 as obstacles, RRT-Connect in joint space (seeded, bounded), random shortcutting, then the
 synchronized trapezoid within joint velocity/acceleration limits. Execution: computed torque tracks
 the trajectory at 1 kHz on the MuJoCo plant, which has the same box; MuJoCo's own collision
 detection must report no contact with it. `--set planner=straight` skips planning and runs the
 straight joint-space trapezoid instead, which hits the box (the pytest checks that it does).
+Any arm: from the work pose, the first joint turns by ROTATION (or back when its limits say so);
+the box stands on the floor under the tool's mid-path position, as high as the tool is there, and
+is shrunk until start and goal clear it by the margin (sil/arm_rig.py, this file's derive()).
 """
 from __future__ import annotations
 
@@ -14,27 +18,29 @@ import numpy as np
 import kiloloop as kl
 
 from ..sil import arm_scene
-from ..sil.log import SignalLog
-from ..sil.loop import LoopSettings, run_loop
-from ..sil.plant import MujocoPlant
-from . import ScenarioResult, evaluate
 from ..sil.arm_adapters import JointTrackingTick
+from ..sil.arm_rig import ArmRig, controller, link_capsules, reach, work_pose
+from ..sil.log import SignalLog
+from . import ScenarioResult, evaluate
 
 NAME = "arm-rrt"
-DESCRIPTION = "UR5 moves around a box: RRT-Connect + shortcut + trapezoid, no contact in MuJoCo"
+DESCRIPTION = "arm moves around a box: RRT-Connect + shortcut + trapezoid, no contact in MuJoCo"
 HOLD = 0.5  # [s] simulated after the trajectory ends
 DEFAULTS = {
     "planner": "rrt",               # or "straight" (no planning: goes through the box)
-    "q_start": [-1.0, -1.2, 1.6, -1.97, -1.57, 0.0],   # [rad] tool down, left of the box
-    "q_goal": [1.0, -1.2, 1.6, -1.97, -1.57, 0.0],     # [rad] mirrored, right of it
-    "box_center": [-0.55, -0.1, 0.2],   # [m] world frame (= UR5 base frame)
-    "box_half_extents": [0.1, 0.1, 0.2],  # [m] standing on the floor, 40 cm tall
+    # Empty: derived from the robot (see the module doc).
+    "q_start": [],                  # [rad]
+    "q_goal": [],                   # [rad]
+    "box_center": [],               # [m] chain root frame (the plant's world when the root is)
+    "box_half_extents": [],         # [m]
     "margin": 0.02,                 # [m] planning clearance to the box and the floor
     "max_iterations": 20000,        # RRT-Connect cap
     "shortcut_iterations": 300,
     "velocity_scale": 0.5,          # fraction of the URDF velocity limits
     "acceleration": 3.0,            # [rad/s^2] per joint
 }
+ROTATION = 2.0      # [rad] of the first joint between start and goal
+BOX_WIDTH = 0.08    # of the reach: the box's half extent in x and y
 CRITERIA = {
     "planned": (">=", 1),
     "box_contact_ticks": ("<", 1),          # MuJoCo: no contact with the box, ever
@@ -48,16 +54,48 @@ def _floor_slab():
     return kl.OrientedBox(center=[0.0, 0.0, -0.5], half_extents=[5.0, 5.0, 0.5])
 
 
-def make_checker(model, urdf, settings):
-    """Capsules from the URDF (the fixed base left out: it cannot move), box + floor."""
-    capsules = [c for c in kl.capsules_from_urdf(str(urdf), model) if c.link != model.root_name]
+def make_checker(model, capsules, settings):
+    """Link capsules (the fixed base left out: it cannot move), box + floor."""
+    capsules = [c for c in capsules if c.link != model.root_name]
     box = kl.OrientedBox(center=settings["box_center"], half_extents=settings["box_half_extents"])
     return kl.ArmCollisionChecker(model, capsules, [box, _floor_slab()], margin=settings["margin"])
 
 
-def plan(model, urdf, settings, seed: int):
+def derive_targets(robot, model, capsules, plant, settings) -> dict:
+    """Start, goal and box for a robot (what the settings leave empty)."""
+    s = dict(settings)
+    q_start = np.asarray(s["q_start"], float) if len(s["q_start"]) else work_pose(robot, model,
+                                                                                   plant)
+    if not len(s["q_goal"]):
+        q_goal = q_start.copy()
+        lo, up = np.asarray(model.lower)[0], np.asarray(model.upper)[0]
+        q_goal[0] = q_start[0] + ROTATION if q_start[0] + ROTATION <= up else q_start[0] - ROTATION
+        if q_goal[0] < lo:
+            raise ValueError(f"{robot.name}: the first joint cannot turn {ROTATION} rad")
+    else:
+        q_goal = np.asarray(s["q_goal"], float)
+    s["q_start"], s["q_goal"] = q_start.tolist(), q_goal.tolist()
+    if len(s["box_center"]) and len(s["box_half_extents"]):
+        return s
+    dyn = kl.Dynamics(model)
+    tool = dyn.forward_kinematics(0.5 * (q_start + q_goal))[:3, 3]
+    half = BOX_WIDTH * reach(plant)
+    for _ in range(8):
+        height = max(float(tool[2]), 2 * half)
+        s["box_center"] = [float(tool[0]), float(tool[1]), height / 2.0]
+        s["box_half_extents"] = [half, half, height / 2.0]
+        checker = make_checker(model, capsules, s)
+        if checker.clearance(q_start) > 0 and checker.clearance(q_goal) > 0:
+            return s
+        half *= 0.7
+        tool = tool.copy()
+        tool[2] *= 0.8
+    raise ValueError(f"{robot.name}: no box fits between start and goal")
+
+
+def plan(model, capsules, settings, seed: int):
     """(trajectory or None, PlanResult or None, checker) for the scenario's settings."""
-    checker = make_checker(model, urdf, settings)
+    checker = make_checker(model, capsules, settings)
     q_start, q_goal = (np.asarray(settings[k], dtype=float) for k in ("q_start", "q_goal"))
     v_max = np.asarray(model.velocity_limit) * settings["velocity_scale"]
     a_max = np.full(model.nq, float(settings["acceleration"]))
@@ -69,16 +107,21 @@ def plan(model, urdf, settings, seed: int):
     config.seed = seed
     config.max_iterations = int(settings["max_iterations"])
     config.shortcut_iterations = int(settings["shortcut_iterations"])
-    config.lower = np.full(model.nq, -np.pi)
-    config.upper = np.full(model.nq, np.pi)
+    # Joint space to search: the limits, at most +-pi (continuous joints).
+    config.lower = np.maximum(np.asarray(model.lower), -np.pi)
+    config.upper = np.minimum(np.asarray(model.upper), np.pi)
     result = kl.plan_trajectory(checker, config, q_start, q_goal, v_max, a_max)
     return result.trajectory, result, checker
 
 
-def run(settings: dict, seed: int = 0, duration: float | None = None) -> ScenarioResult:
-    urdf, overlay = kl.model_files("ur5")
-    model = kl.RobotModel.from_urdf(str(urdf))
-    trajectory, result, checker = plan(model, urdf, settings, seed + 1)
+def run(settings: dict, seed: int = 0, duration: float | None = None,
+        robot=None) -> ScenarioResult:
+    robot = robot or kl.Robot.load("ur5")
+    probe = ArmRig(robot)  # no obstacle yet: derives the targets on the bare arm
+    model = probe.model
+    capsules = link_capsules(robot, model)
+    settings = derive_targets(robot, model, capsules, probe.plant, settings)
+    trajectory, result, checker = plan(model, capsules, settings, seed + 1)
     metrics = {"planned": int(trajectory is not None)}
     if result is not None:
         s = result.stats
@@ -89,25 +132,28 @@ def run(settings: dict, seed: int = 0, duration: float | None = None) -> Scenari
     if trajectory is None:
         return ScenarioResult(NAME, metrics, evaluate(CRITERIA, metrics), SignalLog(), dict(settings))
 
-    def scene(spec):
-        arm_scene.add_box(spec, "obstacle", settings["box_center"], settings["box_half_extents"])
+    T = probe.T_world_root()
 
-    plant = MujocoPlant(urdf, overlay, scene=scene)
+    def scene(spec):
+        center = T[:3, :3] @ np.asarray(settings["box_center"], float) + T[:3, 3]
+        arm_scene.add_box(spec, "obstacle", center, settings["box_half_extents"])
+
+    rig = ArmRig(robot, scene=scene, video=settings.get("video"))
+    plant = rig.plant
     q_start = np.asarray(settings["q_start"], dtype=float)
-    plant.reset(q_start)
+    plant.q0 = q_start
+    plant.reset()
     box = plant.model.geom("obstacle").id
     links = arm_scene.robot_geoms(plant)
-    config = kl.ComputedTorqueConfig()
-    config.kp, config.kd = np.array([900.0]), np.array([60.0])
-    tick = JointTrackingTick(kl.ComputedTorqueController(model, config), trajectory)
+    tick = JointTrackingTick(controller(robot, model, "computed_torque", q_start), trajectory)
 
-    def observe(p: MujocoPlant, log: SignalLog) -> None:
+    def observe(p, log: SignalLog) -> None:
         log.record("q_true", p.q())
         log.record("box_contacts", arm_scene.contacts_with(p, box))
         log.record("box_distance", arm_scene.min_distance(p, box, links))
 
     total = trajectory.end_time + HOLD if duration is None else duration
-    log = run_loop(plant, tick, LoopSettings(duration=total), observe=observe)
+    log = rig.run(tick, total, observe=observe)
     # What the planner's model says about the executed reference (capsules: conservative).
     planned_clearance = min(checker.clearance(q) for q in log["q_ref"][::10]) + settings["margin"]
     q_goal = np.asarray(settings["q_goal"], dtype=float)

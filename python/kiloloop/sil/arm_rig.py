@@ -21,10 +21,11 @@ from .plant import MujocoPlant
 from .video import maybe_recorder
 
 # Work pose search: seeded candidates around the start pose, scored by the conditioning of the
-# position Jacobian, kept clear of the floor. Deterministic (fixed seed) for a given robot file.
+# end-effector Jacobian, kept clear of the floor. Deterministic (fixed seed) for a given robot file.
 WORK_POSE_CANDIDATES = 400
 WORK_POSE_SEED = 20261123
-FLOOR_CLEARANCE = 0.1  # [m] of the reach: every link origin stays this far above z = 0
+FLOOR_CLEARANCE = 0.02  # of the reach: the links' geometry stays this far above the floor
+WORK_HEIGHT = 0.2       # of the reach: the work pose's tool height above the first joint
 
 
 def build_plant(robot, *, scene=None, visual: bool = False, timestep=None, damping=None,
@@ -53,19 +54,6 @@ def reach(plant: MujocoPlant) -> float:
     return float(sum(np.linalg.norm(b - a) for a, b in zip(points[:-1], points[1:])))
 
 
-def _conditioning(plant, q, scratch, jacp) -> tuple[float, np.ndarray]:
-    """(inverse condition number of the 3 x n position Jacobian of the end-effector site,
-    heights [m] of the moving bodies' origins) at q."""
-    m = plant.model
-    scratch.qpos[plant._qadr] = q
-    mujoco.mj_kinematics(m, scratch)
-    mujoco.mj_comPos(m, scratch)
-    mujoco.mj_jacSite(m, scratch, jacp, None, m.site(plant.ee_site).id)
-    s = np.linalg.svd(jacp[:, plant._dadr], compute_uv=False)
-    moving = _moving_bodies(m)
-    return (float(s[-1] / s[0]) if s[0] > 0 else 0.0), scratch.xpos[moving, 2].copy()
-
-
 def _moving_bodies(m) -> np.ndarray:
     """Ids of bodies that some joint moves (a body below a jointed body moves too)."""
     moves = np.zeros(m.nbody, dtype=bool)
@@ -74,31 +62,96 @@ def _moving_bodies(m) -> np.ndarray:
     return np.nonzero(moves)[0]
 
 
+class PoseProbe:
+    """Geometry of the plant at trial configurations, on scratch data (the simulation is never
+    touched): Jacobian conditioning, the links' clearance to the floor, the tool's height."""
+
+    def __init__(self, plant: MujocoPlant):
+        self.plant, m = plant, plant.model
+        self.data = mujoco.MjData(m)
+        self.reach = reach(plant)
+        self.site = m.site(plant.ee_site).id
+        self.base_z = float(plant.data.xanchor[m.joint(plant.joint_names[0]).id][2])
+        moving = set(_moving_bodies(m).tolist()) - self._height_fixed(plant)
+        floor = [g for g in range(m.ngeom) if m.geom(g).name == "floor"]
+        self.floor = floor[0] if floor else None
+        self.geoms = [g for g in range(m.ngeom) if m.geom_bodyid[g] in moving
+                      and m.geom_contype[g] == 0 and m.geom_conaffinity[g] > 0]
+        self._jacp, self._jacr = np.zeros((3, m.nv)), np.zeros((3, m.nv))
+        self._fromto = np.zeros(6)
+
+    @staticmethod
+    def _height_fixed(plant) -> set:
+        """Bodies that only a vertical first joint moves (a UR shoulder): their height never
+        changes, so their clearance to the floor is no choice of the pose."""
+        m, d = plant.model, plant.data
+        first = m.joint(plant.joint_names[0]).id
+        if m.jnt_type[first] != mujoco.mjtJoint.mjJNT_HINGE or abs(abs(d.xaxis[first][2]) - 1) > 1e-9:
+            return set()
+        out = set()
+        for b in range(1, m.nbody):
+            joints, a = set(), b
+            while a > 0:
+                joints.update(range(m.body_jntadr[a], m.body_jntadr[a] + m.body_jntnum[a]))
+                a = m.body_parentid[a]
+            if joints == {first}:
+                out.add(b)
+        return out
+
+    def at(self, q) -> None:
+        self.data.qpos[self.plant._qadr] = q
+        mujoco.mj_kinematics(self.plant.model, self.data)
+        mujoco.mj_comPos(self.plant.model, self.data)
+
+    def conditioning(self) -> float:
+        """Inverse condition number of the site's 6 x n Jacobian, angular rows scaled by a third
+        of the reach [m] so that both halves weigh alike (a chain under 6 joints: its rank)."""
+        p = self.plant
+        mujoco.mj_jacSite(p.model, self.data, self._jacp, self._jacr, self.site)
+        J = np.vstack([self._jacp[:, p._dadr], self._jacr[:, p._dadr] * (self.reach / 3.0)])
+        sv = np.linalg.svd(J, compute_uv=False)
+        return float(sv[min(J.shape) - 1] / sv[0]) if sv[0] > 0 else 0.0
+
+    def floor_clearance(self) -> float:
+        """[m] smallest distance from a moving link's geometry to the floor (inf without one)."""
+        if self.floor is None or not self.geoms:
+            return np.inf
+        m, dmax = self.plant.model, self.reach
+        return min(mujoco.mj_geomDistance(m, self.data, g, self.floor, dmax, self._fromto)
+                   for g in self.geoms)
+
+    def tool_height(self) -> float:
+        """[m] the end-effector site above the first joint's anchor."""
+        return float(self.data.site_xpos[self.site][2]) - self.base_z
+
+
 def work_pose(robot, model, plant: MujocoPlant) -> np.ndarray:
     """[rad] a well-conditioned pose near the start pose. The start pose itself when the robot file
-    gives it ([sim.joints] q0 or [chain] q0) or when its position
-    Jacobian is well conditioned (inverse condition number above 0.2); else the best of seeded
-    candidates (start pose plus offsets within the limits, capped at 1 rad per joint) in which no
-    moving link origin drops below min(its start height, 10 % of the reach) (the floor is z = 0),
-    preferring conditioning, then closeness to the start pose."""
+    gives it ([sim.joints] q0 or [chain] q0) or when it is already good: Jacobian inverse condition
+    number above 0.2, links FLOOR_CLEARANCE of the reach above the floor and the tool WORK_HEIGHT of
+    the reach above the first joint. Else the best of seeded candidates (start pose plus offsets
+    within the limits, capped at 1 rad per joint) that meet the last two, preferring conditioning,
+    then closeness to the start pose (the start pose when no candidate qualifies)."""
     q_start = arm_defaults.start_pose(robot, model)
     if arm_defaults.start_pose_given(robot):
         return q_start  # the robot file chose it
-    scratch = mujoco.MjData(plant.model)
-    jacp = np.zeros((3, plant.model.nv))
-    score0, z0 = _conditioning(plant, q_start, scratch, jacp)
-    if score0 > 0.2:
+    probe = PoseProbe(plant)
+
+    def acceptable(q) -> bool:
+        probe.at(q)
+        return (probe.floor_clearance() >= FLOOR_CLEARANCE * probe.reach
+                and probe.tool_height() >= WORK_HEIGHT * probe.reach)
+
+    if acceptable(q_start) and probe.conditioning() > 0.2:
         return q_start
-    z_min = np.minimum(z0, FLOOR_CLEARANCE * reach(plant)) - 1e-9
     down, up = arm_defaults.joint_range(model, q_start)
     rng = np.random.default_rng(WORK_POSE_SEED)
-    best, best_score = q_start, score0
+    best, best_score = q_start, -np.inf
     for _ in range(WORK_POSE_CANDIDATES):
         q = q_start + rng.uniform(-down, up)
-        score, z = _conditioning(plant, q, scratch, jacp)
-        if np.any(z < z_min):
+        if not acceptable(q):
             continue
-        score -= 0.01 * float(np.linalg.norm(q - q_start))
+        score = probe.conditioning() - 0.01 * float(np.linalg.norm(q - q_start))
         if score > best_score:
             best, best_score = q, score
     return best
@@ -188,13 +241,12 @@ def joint_targets(model, plant: MujocoPlant, q_start, count: int, fraction: floa
                   seed: int = WORK_POSE_SEED) -> list[np.ndarray]:
     """`count` configurations, each `fraction` of every joint's free range (capped at 1 rad) away
     from the previous one in a seeded direction per joint, such that the straight joint-space path
-    through them keeps every moving link origin above min(its start height, 10 % of the reach)
-    and the end-effector Jacobian well conditioned (inverse condition number > 0.05) at each."""
-    scratch = mujoco.MjData(plant.model)
-    jacp = np.zeros((3, plant.model.nv))
+    through them keeps the links min(start clearance, FLOOR_CLEARANCE of the reach) above the floor
+    and the Jacobian well conditioned (inverse condition number > 0.05) at each target."""
+    probe = PoseProbe(plant)
     q_prev = np.asarray(q_start, dtype=float)
-    _, z0 = _conditioning(plant, q_prev, scratch, jacp)
-    z_min = np.minimum(z0, FLOOR_CLEARANCE * reach(plant)) - 1e-9
+    probe.at(q_prev)
+    clearance = min(probe.floor_clearance(), FLOOR_CLEARANCE * probe.reach) - 1e-9
     rng = np.random.default_rng(seed)
     out = []
     for _ in range(count):
@@ -205,8 +257,9 @@ def joint_targets(model, plant: MujocoPlant, q_start, count: int, fraction: floa
             q = q_prev + step
             ok = True
             for s in np.linspace(0.0, 1.0, 21)[1:]:
-                score, z = _conditioning(plant, q_prev + s * step, scratch, jacp)
-                if np.any(z < z_min) or (s == 1.0 and score < 0.05):
+                probe.at(q_prev + s * step)
+                if probe.floor_clearance() < clearance or (s == 1.0 and
+                                                           probe.conditioning() < 0.05):
                     ok = False
                     break
             if ok:
@@ -238,40 +291,72 @@ def _rotvec_matrix(w) -> np.ndarray:
     return R.reshape(3, 3)
 
 
-def line_feasible(model, q0, displacement, rotation, samples: int = 25,
-                  max_joint_step: float = 0.3) -> bool:
-    """True when the IK follows the line from q0 continuously: every sample solved within the
-    limits, consecutive solutions closer than max_joint_step [rad], position Jacobian not
-    singular (inverse condition number > 0.05)."""
+def line_feasible(model, q0, displacement, rotation, duration: float, samples: int = 50,
+                  probe: PoseProbe | None = None) -> bool:
+    """True when the IK follows the line from q0 continuously and slowly enough: every sample
+    solved within the limits, joint speeds at most half the velocity limits (the quintic time
+    scaling peaks at 1.875x the mean speed), and the 6 x n Jacobian (angular rows scaled by the
+    start pose's distance from the root) not singular (inverse condition number > 0.02); with a
+    probe, the links also stay min(start clearance, FLOOR_CLEARANCE of the reach) above the floor."""
     dyn = kl.Dynamics(model)
     ik = kl.ArmIk(model)
     start = dyn.forward_kinematics(q0)
+    length = max(float(np.linalg.norm(start[:3, 3])), 1e-3)
+    max_step = 0.5 * np.asarray(model.velocity_limit) * (duration / (samples - 1)) / 1.875
     q = np.asarray(q0, dtype=float)
+    if probe is not None:
+        probe.at(q)
+        clearance = min(probe.floor_clearance(), FLOOR_CLEARANCE * probe.reach) - 1e-9
     for s in np.linspace(0.0, 1.0, samples)[1:]:
         T = start.copy()
         T[:3, 3] += s * np.asarray(displacement, dtype=float)
         T[:3, :3] = _rotvec_matrix(s * np.asarray(rotation, dtype=float)) @ start[:3, :3]
         q_next, status = ik.solve(T, q)
-        if int(status) < 0 or np.abs(q_next - q).max() > max_joint_step:
+        if int(status) < 0 or np.any(np.abs(q_next - q) > max_step):
             return False
-        sv = np.linalg.svd(dyn.jacobian(q_next)[:3], compute_uv=False)
-        if sv[-1] < 0.05 * sv[0]:
+        J = dyn.jacobian(q_next)
+        J = np.vstack([J[:3], J[3:] * length])
+        sv = np.linalg.svd(J, compute_uv=False)
+        if sv[min(J.shape) - 1] < 0.02 * sv[0]:
             return False
+        if probe is not None:
+            probe.at(q_next)
+            if probe.floor_clearance() < clearance:
+                return False
         q = q_next
     return True
 
 
-def line_target(rig: ArmRig, q0) -> tuple[np.ndarray, np.ndarray]:
+def line_target(rig: ArmRig, q0, duration: float) -> tuple[np.ndarray, np.ndarray]:
     """(displacement [m], rotation vector [rad]) of a derived Cartesian line from the pose at q0:
     LINE_LENGTH of the reach along the first feasible LINE_DIRECTIONS entry, LINE_ROTATION about
     the first feasible axis (halved up to twice when nothing is feasible)."""
-    length = LINE_LENGTH * reach(rig.plant)
+    probe = PoseProbe(rig.plant)
+    length = LINE_LENGTH * probe.reach
     for scale in (1.0, 0.5, 0.25):
         for direction in LINE_DIRECTIONS:
             d = np.asarray(direction, dtype=float)
             d = scale * length * d / np.linalg.norm(d)
             for axis in LINE_ROTATION_AXES:
                 r = scale * LINE_ROTATION * np.asarray(axis, dtype=float) / np.linalg.norm(axis)
-                if line_feasible(rig.model, q0, d, r):
+                if line_feasible(rig.model, q0, d, r, duration, probe=probe):
                     return d, r
     raise ValueError(f"{rig.robot.name}: no feasible Cartesian line from the work pose")
+
+
+def link_capsules(robot, model) -> list:
+    """Collision capsules of the chain's links for planning: the robot file's [collision] capsules
+    where it gives them, else capsules bounding the URDF's collision primitives."""
+    given = robot.section("collision").get("capsules", {})
+    capsules = []
+    for link, rows in given.items():
+        for row in rows:
+            if len(row) != 7:
+                raise ValueError(f"{robot.path}: collision.capsules.{link}: expected "
+                                 f"[x0, y0, z0, x1, y1, z1, radius] per capsule")
+            c = kl.LinkCapsule()
+            c.link, c.a, c.b, c.radius = link, np.array(row[:3]), np.array(row[3:6]), row[6]
+            capsules.append(c)
+    if given:
+        return capsules
+    return list(kl.capsules_from_urdf(str(robot.urdf), model))

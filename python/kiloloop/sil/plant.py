@@ -126,6 +126,12 @@ def _spec_from_urdf(urdf_path: Path, phys: dict, package_dirs=(), visual: bool =
     return spec
 
 
+def collision_geoms(spec) -> list:
+    """The URDF's <collision> geoms. MuJoCo imports <visual> ones (kept only for rendering) with
+    contype = conaffinity = 0 in group 1: they must stay out of every contact."""
+    return [g for g in spec.geoms if not (g.contype == 0 and g.conaffinity == 0 and g.group == 1)]
+
+
 def _joint_addresses(m, joint_names) -> tuple[np.ndarray, ...]:
     """qpos and dof addresses, motor ids and encoder sensor addresses of the named joints (as
     built by _add_joints_and_motors)."""
@@ -178,7 +184,7 @@ class MujocoPlant:
 
         # Robot geoms: contype 0, conaffinity 1. Environment geoms (floor, obstacles; default
         # contype 1) hit them, but two robot geoms never collide, adjacent or not.
-        for geom in spec.geoms:
+        for geom in collision_geoms(spec):
             geom.contype, geom.conaffinity = 0, 1
         if phys["floor"]:
             spec.worldbody.add_geom(name="floor", type=mujoco.mjtGeom.mjGEOM_PLANE,

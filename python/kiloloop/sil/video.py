@@ -8,7 +8,6 @@ Renderer must be closed explicitly, its destructor raises at interpreter exit ot
 """
 from __future__ import annotations
 
-import os
 from fractions import Fraction
 from pathlib import Path
 
@@ -20,7 +19,6 @@ FPS = 30
 class VideoRecorder:
     def __init__(self, model, path, *, body: int = 1, width: int = 640, height: int = 480,
                  fps: int = FPS, distance: float | None = None):
-        os.environ.setdefault("MUJOCO_GL", "osmesa")
         import av
         import mujoco
 
@@ -29,6 +27,9 @@ class VideoRecorder:
         self.fps = fps
         self.frames = 0
         self._mujoco = mujoco
+        # A brighter headlight than MuJoCo's default (visual options only: physics unchanged).
+        model.vis.headlight.ambient[:] = 0.35
+        model.vis.headlight.diffuse[:] = 0.7
         self._renderer = mujoco.Renderer(model, height=height, width=width)
         cam = mujoco.MjvCamera()
         cam.type = mujoco.mjtCamera.mjCAMERA_TRACKING
