@@ -1,6 +1,7 @@
 # The README's two commands: `make demo` and `make test`. Both set up everything they need:
 # Debian packages (scripts/setup_system.sh), a virtual environment in .venv, and the package
 # built by scikit-build-core into build/py (incremental; the C++ tests are built there too).
+# mujoco is installed before the build: the native SIL loop compiles against its wheel's headers.
 PYTHON ?= python3
 VENV := .venv
 BIN := $(VENV)/bin
@@ -29,7 +30,7 @@ $(BIN)/python:
 
 build: system-deps $(BIN)/python
 	$(BIN)/python -m pip install -q --upgrade pip
-	$(BIN)/python -m pip install -q "scikit-build-core>=0.10" "pybind11>=2.12" cmake ninja
+	$(BIN)/python -m pip install -q "scikit-build-core>=0.10" "pybind11>=2.12" cmake ninja "mujoco>=3.2"
 	$(BIN)/python -m pip install -q $(PIP_BUILD_FLAGS) ".[test]"
 
 clean:

@@ -15,6 +15,7 @@
 #include "kiloloop/control/joint_pd_gravity.hpp"
 #include "sil/arm_adapters.hpp"
 #include "sil/batch.hpp"
+#include "sil/mujoco_api.hpp"
 #include "sil/native_loop.hpp"
 #endif
 
@@ -65,9 +66,11 @@ JointReference joint_reference(const py::object& r, int nq) {
   return ref;
 }
 
+// Path of the shared object that defines the resolved mj_step (empty before load_mujoco).
 std::string library_path() {
   Dl_info info{};
-  if (dladdr(reinterpret_cast<void*>(&mj_step), &info) && info.dli_fname) return info.dli_fname;
+  const auto step = mujoco_api().step;
+  if (step && dladdr(reinterpret_cast<void*>(step), &info) && info.dli_fname) return info.dli_fname;
   return "";
 }
 
@@ -80,8 +83,16 @@ void bind_native(py::module_& parent) {
   m.attr("available") = false;
 #else
   m.attr("available") = true;
-  m.attr("mujoco_version") = std::string(mj_versionString());
-  m.def("mujoco_library", &library_path, "path of the libmujoco this module calls");
+  m.attr("header_version") = mjVERSION_HEADER;
+  m.def("load_mujoco",
+        [](const std::string& path) {
+          std::string why;
+          if (!load_mujoco_api(path, &why)) throw py::value_error(why);
+          return std::string(mujoco_api().version_string());
+        },
+        py::arg("path"), "resolves MuJoCo's functions from the already-loaded libmujoco at path");
+  m.def("mujoco_loaded", &mujoco_api_loaded);
+  m.def("mujoco_library", &library_path, "path of the libmujoco the native loop calls");
 
   py::class_<PyAdapter>(m, "Adapter", "a native adapter: measurement -> compiled controller -> command")
       .def_property_readonly("measurement_size", [](const PyAdapter& a) { return a.adapter->measurement_size(); })

@@ -11,7 +11,9 @@ ray = pytest.importorskip("ray")
 
 @pytest.fixture(scope="module")
 def local_ray():
-    ray.init(num_cpus=2, include_dashboard=False, log_to_driver=False)
+    # A small object store (results are a few kB): kind to a shared machine.
+    ray.init(num_cpus=2, include_dashboard=False, log_to_driver=False,
+             object_store_memory=100 * 1024 * 1024)
     yield
     ray.shutdown()
 
@@ -40,5 +42,5 @@ def test_ray_captures_a_run_that_raises(local_ray):
 
     results = sweep.run_sweep("aerial-hover", {"att_kp": ["400", "-5"]}, duration=0.2,
                               backend="ray")
-    assert results[0]["reason"] == "" or results[0]["passed"] in (True, False)
+    assert results[0]["reason"] == ""
     assert not results[1]["passed"] and results[1]["reason"].startswith("error:")

@@ -1,5 +1,7 @@
 #include "sil/native_loop.hpp"
 
+#include "sil/mujoco_api.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <exception>
@@ -32,6 +34,10 @@ bool Rollout::configure(const mjModel* model, mjData* data, std::shared_ptr<Adap
                         RolloutConfig config, std::string* why) {
   if (!model || !data || !adapter) {
     *why = "rollout: model, data and adapter are required";
+    return false;
+  }
+  if (!mujoco_api_loaded()) {
+    *why = "rollout: libmujoco not resolved (kiloloop.sil.native loads it on import)";
     return false;
   }
   if (!(config.control_dt > 0.0) || config.ticks < 0) {
@@ -103,7 +109,7 @@ bool Rollout::configure(const mjModel* model, mjData* data, std::shared_ptr<Adap
 }
 
 void Rollout::apply_forces(double t) noexcept {
-  for (int b : force_bodies_) mju_zero(d_->xfrc_applied + 6 * b, 6);
+  for (int b : force_bodies_) std::fill(d_->xfrc_applied + 6 * b, d_->xfrc_applied + 6 * b + 6, 0.0);
   for (size_t i = 0; i < next_event_; ++i) {
     const Event& e = config_.events[i];
     if (e.kind != EventKind::kForce || t >= e.time + e.payload[7]) continue;
@@ -131,10 +137,10 @@ void Rollout::tick(int k) {
       case S::kSensor: for (size_t j = 0; j < probe.index.size(); ++j) row[j] = d_->sensordata[probe.index[j]]; break;
       case S::kQpos: for (size_t j = 0; j < probe.index.size(); ++j) row[j] = d_->qpos[probe.index[j]]; break;
       case S::kQvel: for (size_t j = 0; j < probe.index.size(); ++j) row[j] = d_->qvel[probe.index[j]]; break;
-      case S::kSitePos: mju_copy(row, d_->site_xpos + 3 * i0, 3); break;
-      case S::kSiteMat: mju_copy(row, d_->site_xmat + 9 * i0, 9); break;
-      case S::kBodyPos: mju_copy(row, d_->xpos + 3 * i0, 3); break;
-      case S::kBodyQuat: mju_copy(row, d_->xquat + 4 * i0, 4); break;
+      case S::kSitePos: std::copy(d_->site_xpos + 3 * i0, d_->site_xpos + 3 * i0 + 3, row); break;
+      case S::kSiteMat: std::copy(d_->site_xmat + 9 * i0, d_->site_xmat + 9 * i0 + 9, row); break;
+      case S::kBodyPos: std::copy(d_->xpos + 3 * i0, d_->xpos + 3 * i0 + 3, row); break;
+      case S::kBodyQuat: std::copy(d_->xquat + 4 * i0, d_->xquat + 4 * i0 + 4, row); break;
     }
   }
 
@@ -147,9 +153,10 @@ void Rollout::tick(int k) {
   motor_.push(u_.data(), u_applied_.data());
   for (int i = 0; i < nu; ++i) d_->ctrl[config_.actuators[i]] = u_applied_[i];
   if (!force_bodies_.empty()) apply_forces(t);
+  const MujocoApi& mj = mujoco_api();
   for (int s = 0; s < substeps_; ++s) {
-    mj_step2(m_, d_);
-    mj_step1(m_, d_);
+    mj.step2(m_, d_);
+    mj.step1(m_, d_);
   }
 }
 
@@ -179,7 +186,9 @@ const RolloutResult& Rollout::run() noexcept {
 }
 
 void step_raw(const mjModel* model, mjData* data, int n) noexcept {
-  for (int i = 0; i < n; ++i) mj_step(model, data);
+  const MujocoApi& mj = mujoco_api();
+  if (!mj.step) return;
+  for (int i = 0; i < n; ++i) mj.step(model, data);
 }
 
 }  // namespace kiloloop::sil

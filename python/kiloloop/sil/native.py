@@ -14,6 +14,8 @@ docs/native_sil.md for which scenarios run natively and which still need Python 
 """
 from __future__ import annotations
 
+import glob
+import os
 from dataclasses import dataclass
 
 import mujoco
@@ -30,20 +32,36 @@ ESTOP, REFERENCE, FORCE = 0, 1, 2
 _SENSOR, _SITE_POS, _SITE_MAT, _BODY_POS, _BODY_QUAT, _QPOS, _QVEL = range(7)
 
 
+def _load_mujoco() -> str:
+    """Points the native loop at the libmujoco `import mujoco` loaded (cpp/sil/mujoco_api.hpp);
+    returns why it cannot run ("" when it can)."""
+    if not _native.available:
+        return ("kiloloop was built without the native SIL loop (no mujoco wheel at configure "
+                "time)")
+    if _native.mujoco_loaded():
+        return ""
+    why = f"no libmujoco next to {mujoco.__file__}"
+    for path in sorted(glob.glob(os.path.join(os.path.dirname(mujoco.__file__), "libmujoco.so*"))):
+        try:
+            _native.load_mujoco(path)
+            return ""
+        except ValueError as e:
+            why = str(e)
+    return why
+
+
+_UNAVAILABLE = _load_mujoco()
+
+
 def available() -> bool:
-    """True when the extension was built with the native loop against this mujoco version."""
-    return bool(_native.available) and _native.mujoco_version == mujoco.mj_versionString()
+    """True when the native loop can step this Python mujoco's models."""
+    return not _UNAVAILABLE
 
 
 def check() -> None:
-    """Raises RuntimeError unless the native loop can step this Python mujoco's models."""
-    if not _native.available:
-        raise RuntimeError("kiloloop was built without the native SIL loop (no mujoco wheel at "
-                           "configure time)")
-    if _native.mujoco_version != mujoco.mj_versionString():
-        raise RuntimeError(f"kiloloop's native loop was built against MuJoCo "
-                           f"{_native.mujoco_version}, Python's mujoco is "
-                           f"{mujoco.mj_versionString()}: rebuild kiloloop")
+    """Raises RuntimeError (with the reason) unless available()."""
+    if _UNAVAILABLE:
+        raise RuntimeError(_UNAVAILABLE)
 
 
 @dataclass
