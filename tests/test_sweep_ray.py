@@ -24,7 +24,7 @@ def rows(path):
 
 
 def test_ray_csv_equals_local_csv(tmp_path, local_ray, capsys):
-    # att_kp = 4000 flips the vehicle (a failed run with its reason); law=bad raises in the run.
+    # att_kp = 4000 flips the vehicle: a failed run with its reason, in both CSVs.
     args = ["sweep", "aerial-hover", "--grid", "att_kp=400,4000", "--grid", "gyro_sigma=0.01,0.05",
             "--duration", "0.6", "--seed", "3", "--workers", "2",
             "--metric", "max_position_error_m"]
@@ -40,7 +40,7 @@ def test_ray_csv_equals_local_csv(tmp_path, local_ray, capsys):
 def test_ray_captures_a_run_that_raises(local_ray):
     from kiloloop import sweep
 
-    results = sweep.run_sweep("aerial-hover", {"att_kp": ["400", "-5"]}, duration=0.2,
-                              backend="ray")
+    results = sweep.run_sweep("aerial-hover", {"law": ["quaternion_pd", "no_such_law"]},
+                              duration=0.2, backend="ray")
     assert results[0]["reason"] == ""
     assert not results[1]["passed"] and results[1]["reason"].startswith("error:")

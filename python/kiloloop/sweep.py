@@ -96,7 +96,7 @@ BACKENDS = ("local", "ray")
 
 
 def run_sweep(scenario: str, grid: dict[str, list[str]], workers: int | None = None,
-              seed: int = 0, duration: float | None = None, stream=sys.stderr, robot=None,
+              seed: int = 0, duration: float | None = None, stream=None, robot=None,
               sets=None, backend: str = "local") -> list[dict]:
     """All combinations on `workers` threads or processes (default: the machine's cores), or on
     Ray; results in grid order. A worker that dies takes only its own run with it. Grid keys are
@@ -104,6 +104,7 @@ def run_sweep(scenario: str, grid: dict[str, list[str]], workers: int | None = N
     `kiloloop run`."""
     if backend not in BACKENDS:
         raise ValueError(f"--backend {backend!r}: expected one of {', '.join(BACKENDS)}")
+    stream = sys.stderr if stream is None else stream  # looked up now: tests swap sys.stderr
     from . import scenarios
 
     module = scenarios.get(scenario)  # unknown scenario: KeyError before any process starts

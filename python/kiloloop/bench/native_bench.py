@@ -55,14 +55,18 @@ def _rollouts(rig, traj, make, count: int, duration: float) -> list:
     return out
 
 
-def _timed_batch(rig, traj, make, count, duration, threads) -> float:
-    """[s] wall time of one batch run (set-up excluded)."""
+def _timed_batch(rig, traj, make, count, duration, threads, cpu: list | None = None) -> float:
+    """[s] wall time of one batch run (set-up excluded); appends the process CPU time [s] it took
+    to `cpu` when given (CPU time / wall = cores actually obtained: on a shared machine, other
+    processes' load shows here rather than as a slower loop)."""
     from ..sil import batch
 
     rollouts = _rollouts(rig, traj, make, count, duration)
-    start = time.perf_counter()
+    cpu0, start = time.process_time(), time.perf_counter()
     batch.run(rollouts, threads=threads)
     wall = time.perf_counter() - start
+    if cpu is not None:
+        cpu.append(time.process_time() - cpu0)
     assert all(r.ok for r in rollouts), [r.error for r in rollouts if not r.ok]
     return wall
 
@@ -86,9 +90,11 @@ def arm_native(quick: bool, robot=None) -> dict:
     count = max(BATCH, 2 * cores)
     all_cores = statistics.median(_timed_batch(rig, traj, make, count, duration, cores)
                                   for _ in range(REPEATS))
-    t1 = statistics.median(_timed_batch(rig, traj, make, BATCH, duration, 1)
+    cpu1: list = []
+    cpu2: list = []
+    t1 = statistics.median(_timed_batch(rig, traj, make, BATCH, duration, 1, cpu1)
                            for _ in range(REPEATS))
-    t2 = statistics.median(_timed_batch(rig, traj, make, BATCH, duration, 2)
+    t2 = statistics.median(_timed_batch(rig, traj, make, BATCH, duration, 2, cpu2)
                            for _ in range(REPEATS))
 
     # The per-tick Python loop on the same controller and trajectory (sil/loop.py).
@@ -121,6 +127,10 @@ def arm_native(quick: bool, robot=None) -> dict:
         "batch_1_thread_s": t1,
         "batch_2_threads_s": t2,
         "batch_speedup_2_over_1": t1 / t2,
+        # CPU seconds per batch: equal for 1 and 2 threads = no extra work from threading.
+        "batch_1_thread_cpu_s": statistics.median(cpu1),
+        "batch_2_threads_cpu_s": statistics.median(cpu2),
+        "load_average_1min": os.getloadavg()[0],
         "python_tick_us": py_tick * 1e6,
         "python_tick_over_mj_step": py_tick / (raw * substeps),
         "python_real_time_factor": py_duration / py_wall,
@@ -158,3 +168,6 @@ def print_native_bench(r: dict) -> None:
         print(f"    real-time factor, {a['cores']} cores (batch) {a['real_time_factor_all_cores']:8.0f} x")
         print(f"    batch of {a['batch']}: 1 thread {a['batch_1_thread_s']:.3f} s, 2 threads "
               f"{a['batch_2_threads_s']:.3f} s -> {a['batch_speedup_2_over_1']:.2f} x (goal >= 1.8)")
+        print(f"      CPU time 1 thread {a['batch_1_thread_cpu_s']:.3f} s, 2 threads "
+              f"{a['batch_2_threads_cpu_s']:.3f} s; load average {a['load_average_1min']:.1f} "
+              f"on {a['cores']} cores")
