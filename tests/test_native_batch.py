@@ -60,3 +60,23 @@ def test_sweep_uses_threads_for_native_scenarios():
                                   threads=2)
     assert results[0]["metrics"]["ticks"] == 200
     assert not results[1]["passed"] and results[1]["reason"].startswith("error: ValueError")
+
+
+def test_the_gil_is_released_while_rollouts_run():
+    import threading
+    import time
+
+    rollouts = make_rollouts(6, duration=2.0)
+    worker = threading.Thread(target=batch.run, args=(rollouts, 1))
+    stamps = []
+    start = time.perf_counter()
+    worker.start()
+    while worker.is_alive():  # this thread runs only while the batch does not hold the GIL
+        stamps.append(time.perf_counter())
+    worker.join()
+    wall = time.perf_counter() - start
+    assert all(r.ok for r in rollouts)
+    # Held GIL: one gap as long as the whole C++ run. Released: only scheduler-sized gaps.
+    gap = max(b - a for a, b in zip(stamps, stamps[1:]))
+    print(f"batch {wall:.3f} s, longest pause of the main thread {gap:.3f} s")
+    assert gap < 0.5 * wall
