@@ -8,6 +8,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <type_traits>
 #include <vector>
 
@@ -207,14 +208,32 @@ void bind_native(py::module_& parent) {
         },
         py::arg("rollouts"), py::arg("threads"),
         "runs every Rollout once on a pool of C++ threads (GIL released); each must own its data");
+  m.def("step_adapter",
+        [](PyAdapter& a, const Array& y, int n, double dt) {
+          vector_arg(y, a.adapter->measurement_size(), "y");
+          py::gil_scoped_release no_gil;
+          step_adapter(*a.adapter, y.data(), n, dt);
+        },
+        py::arg("adapter"), py::arg("y"), py::arg("n"), py::arg("dt") = 0.001,
+        "n adapter (controller) steps on a fixed measurement, no physics (bench reference)");
   m.def("step_raw",
-        [](py::object model, py::object data, int n) {
+        [](py::object model, py::object data, int n, std::optional<Array> ctrl, std::vector<int> actuators) {
           auto* mm = address_of<mjModel>(model, "model");
           auto* dd = address_of<mjData>(data, "data");
+          const int k = static_cast<int>(actuators.size());
+          if (ctrl) {
+            if (ctrl->ndim() != 2 || ctrl->shape(0) < n || ctrl->shape(1) != k)
+              throw py::value_error("ctrl: expected shape (>= n, len(actuators))");
+            for (int a : actuators)
+              if (a < 0 || a >= mm->nu) throw py::value_error("actuators: index out of range");
+          }
+          const double* c = ctrl ? ctrl->data() : nullptr;
           py::gil_scoped_release no_gil;
-          step_raw(mm, dd, n);
+          step_raw(mm, dd, n, c, actuators.data(), k);
         },
-        py::arg("model"), py::arg("data"), py::arg("n"), "n x mj_step from C++ (bench reference)");
+        py::arg("model"), py::arg("data"), py::arg("n"), py::arg("ctrl") = py::none(),
+        py::arg("actuators") = std::vector<int>{},
+        "n x mj_step from C++ (bench reference); ctrl rows replayed onto ctrl[actuators]");
 
   // The sensor and motor models alone, for the per-tick Python loop (same code, same stream).
   py::class_<SensorModel>(m, "SensorModel", "noise + quantization over a flat signal vector")

@@ -185,10 +185,23 @@ const RolloutResult& Rollout::run() noexcept {
   return result_;
 }
 
-void step_raw(const mjModel* model, mjData* data, int n) noexcept {
+void step_adapter(Adapter& adapter, const double* y, int n, double dt) {
+  LogBuffer log;
+  adapter.declare(log);
+  log.allocate(n);
+  std::vector<double> u(adapter.command_size());
+  for (int k = 0; k < n; ++k) adapter.step(k * dt, k * dt, y, u.data(), log, k);
+}
+
+void step_raw(const mjModel* model, mjData* data, int n, const double* ctrl, const int* actuators,
+              int k) noexcept {
   const MujocoApi& mj = mujoco_api();
   if (!mj.step) return;
-  for (int i = 0; i < n; ++i) mj.step(model, data);
+  for (int i = 0; i < n; ++i) {
+    if (ctrl)
+      for (int j = 0; j < k; ++j) data->ctrl[actuators[j]] = ctrl[static_cast<size_t>(i) * k + j];
+    mj.step(model, data);
+  }
 }
 
 }  // namespace kiloloop::sil

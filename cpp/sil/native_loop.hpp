@@ -86,7 +86,14 @@ class Rollout {
   RolloutResult result_;
 };
 
-// Raw MuJoCo cost reference for the bench: n x mj_step on (model, data).
-void step_raw(const mjModel* model, mjData* data, int n) noexcept;
+// Controller cost reference for the bench: n adapter steps on a fixed measurement y at
+// t = k * dt, no physics (into a log the function sizes itself: allocates, not for the loop).
+void step_adapter(Adapter& adapter, const double* y, int n, double dt);
+
+// Raw MuJoCo cost reference for the bench: n x mj_step on (model, data). With ctrl (n x k,
+// row-major) and actuators (k), row i goes to ctrl[actuators] before step i: replaying a loop's
+// commands gives the same motion (contacts and all) without the loop.
+void step_raw(const mjModel* model, mjData* data, int n, const double* ctrl = nullptr,
+              const int* actuators = nullptr, int k = 0) noexcept;
 
 }  // namespace kiloloop::sil

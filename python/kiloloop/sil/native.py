@@ -190,17 +190,6 @@ def run(plant, adapter, duration: float, log: SignalLog | None = None, **kwargs)
     return signal_log(r, log)
 
 
-def step_raw_seconds(plant, steps: int) -> float:
-    """[s] per mj_step called from C++ on a copy of the plant's state (bench reference)."""
-    import time
-
-    data = mujoco.MjData(plant.model)
-    mujoco.mj_copyData(data, plant.model, plant.data)
-    start = time.perf_counter()
-    _native.step_raw(plant.model, data, int(steps))
-    return (time.perf_counter() - start) / max(1, int(steps))
-
-
 def noisy_plant(plant, nonideal: NonIdeal):
     """The plant as the per-tick loop's controller sees it through nonideal's sensor model (same
     C++ code and stream as the native loop: [q; qd] sampled once per tick, q first)."""
