@@ -29,7 +29,7 @@ def assert_same_log(a, b):
 
 def test_one_libmujoco_in_the_process():
     native.check()
-    lib = os.path.realpath(kl.sil.native._native.mujoco_library())
+    lib = os.path.realpath(kl.sil.native.library())
     wheel = os.path.dirname(mujoco.__file__)
     assert lib.startswith(os.path.realpath(wheel)), lib
     with open("/proc/self/maps") as f:
@@ -135,4 +135,4 @@ def test_bad_arguments_raise_value_error(ur5):
     with pytest.raises(ValueError, match="force event"):
         native.rollout(rig.plant, adapter, 0.1, events=[native.force(0.0, 9999, [0] * 6, 1.0)])
     with pytest.raises(ValueError, match="controller"):
-        native._native.joint_tracking_adapter(object(), traj)
+        native.joint_tracking_adapter(object(), traj)

@@ -37,7 +37,7 @@ class JointTrackingTick:
         return self.output.tau.copy()
 
     def native_adapter(self):
-        return native._native.joint_tracking_adapter(self.controller, self.trajectory)
+        return native.joint_tracking_adapter(self.controller, self.trajectory)
 
     def native_events(self) -> list:
         return []
@@ -65,7 +65,7 @@ class CartesianTick:
         return self.output.tau.copy()
 
     def native_adapter(self):
-        return native._native.cartesian_adapter(self.controller, self.line)
+        return native.cartesian_adapter(self.controller, self.line)
 
     def native_events(self) -> list:
         return []
@@ -100,7 +100,7 @@ class SupervisedTick:
         return self.sout.tau.copy()
 
     def native_adapter(self):
-        return native._native.supervised_adapter(self.c, self.s, self.traj)
+        return native.supervised_adapter(self.c, self.s, self.traj)
 
     def native_events(self) -> list:
         return [native.estop(self.t_estop)]

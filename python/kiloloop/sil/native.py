@@ -26,6 +26,16 @@ from .log import SignalLog
 
 _native = _core.native
 
+# The arm family's native adapters (cpp/sil/arm_adapters.hpp), built on the very controller and
+# reference objects the per-tick ticks use (sil/arm_adapters.py):
+#   joint_tracking_adapter(controller, trajectory)     ComputedTorque / JointPdGravity on a
+#                                                      QuinticTrajectory / TrapezoidTrajectory
+#   cartesian_adapter(controller, line)                CartesianTrackingController on a CartesianLine
+#   supervised_adapter(controller, supervisor, trajectory)   ... -> ArmSupervisor (e-stop events)
+joint_tracking_adapter = _native.joint_tracking_adapter if _native.available else None
+cartesian_adapter = _native.cartesian_adapter if _native.available else None
+supervised_adapter = _native.supervised_adapter if _native.available else None
+
 # Event kinds (cpp/sil/events.hpp).
 ESTOP, REFERENCE, FORCE = 0, 1, 2
 # Probe sources (cpp/sil/native_loop.hpp).
@@ -51,6 +61,11 @@ def _load_mujoco() -> str:
 
 
 _UNAVAILABLE = _load_mujoco()
+
+
+def library() -> str:
+    """Path of the libmujoco the native loop calls ("" before it is resolved)."""
+    return _native.mujoco_library() if _native.available else ""
 
 
 def available() -> bool:
