@@ -2,6 +2,7 @@
 # Debian packages (scripts/setup_system.sh), a virtual environment in .venv, and the package
 # built by scikit-build-core into build/py (incremental; the C++ tests are built there too).
 # mujoco is installed before the build: the native SIL loop compiles against its wheel's headers.
+SHELL := /bin/bash
 PYTHON ?= python3
 VENV := .venv
 BIN := $(VENV)/bin
@@ -12,11 +13,14 @@ PIP_BUILD_FLAGS := --no-build-isolation --config-settings=cmake.define.KILOLOOP_
 .PHONY: demo test bench build system-deps clean
 
 demo: build
+	@echo "==> demo: the UR5 follows a quintic in MuJoCo (arm-track); plot and log into $(OUT)/"
 	@mkdir -p $(OUT)
 	$(BIN)/kiloloop run arm-track --plot $(OUT)/arm-track.png --log $(OUT)/arm-track.npz
 
 test: build
+	@echo "==> C++ tests (ctest)"
 	ctest --test-dir $(BUILD_DIR) --output-on-failure -j2
+	@echo "==> Python tests (pytest)"
 	$(BIN)/python -m pytest -q
 
 bench: build
@@ -28,10 +32,20 @@ system-deps:
 $(BIN)/python:
 	$(PYTHON) -m venv $(VENV)
 
+# The first build compiles ~100 C++ files (about 5 minutes on 2 cores): its progress lines
+# ([n/N] Building ...) are shown, the rest of pip's output is not.
 build: system-deps $(BIN)/python
-	$(BIN)/python -m pip install -q --upgrade pip
-	$(BIN)/python -m pip install -q "scikit-build-core>=0.10" "pybind11>=2.12" cmake ninja "mujoco>=3.2"
-	$(BIN)/python -m pip install -q $(PIP_BUILD_FLAGS) ".[test]"
+	@echo "==> kiloloop: Python build tools into $(VENV)"
+	@$(BIN)/python -m pip install -q --upgrade pip
+	@$(BIN)/python -m pip install -q "scikit-build-core>=0.10" "pybind11>=2.12" cmake ninja "mujoco>=3.2"
+	@echo "==> kiloloop: building the C++ core, the Python module and the C++ tests into $(BUILD_DIR)"
+	@echo "    (incremental; the first build takes about 5 minutes on 2 cores), then installing"
+	@echo "    the Python dependencies (mujoco, numpy, pinocchio and example-robot-data for tests...)"
+	@set -o pipefail; $(BIN)/python -m pip install -v $(PIP_BUILD_FLAGS) ".[test]" 2>&1 \
+	  | grep --line-buffered -E '^ *\[[0-9]+/[0-9]+\] (Building|Linking)|^ERROR|error:|Successfully installed' \
+	  | sed -u -E 's/^ *(\[[0-9]+\/[0-9]+\]) (Building|Linking) CXX (object|executable|static library|shared module) /    \1 /; s/\.o$$//' \
+	  || { echo "build failed: rerun with '$(BIN)/python -m pip install -v $(PIP_BUILD_FLAGS) .[test]' for the full log"; exit 1; }
+	@echo "==> kiloloop: built"
 
 clean:
 	rm -rf build $(OUT)

@@ -12,7 +12,8 @@ void bind_joint_config(py::module_& m, const char* name) {
       .def_readwrite("kp", &Config::kp)
       .def_readwrite("kd", &Config::kd)
       .def_readwrite("gravity", &Config::gravity)
-      .def_readwrite("max_measurement_age", &Config::max_measurement_age);
+      .def_readwrite("max_measurement_age", &Config::max_measurement_age)
+      .def_readwrite("friction", &Config::friction);
 }
 
 template <class Controller, class Config>
@@ -36,6 +37,13 @@ void bind_joint_controller(py::module_& m, const char* name, const char* doc) {
 }  // namespace
 
 void bind_control(py::module_& m) {
+  py::class_<JointFrictionConfig>(m, "JointFrictionConfig",
+                                  "Compensated joint friction: b qd_ref + fc tanh(qd_ref / v_s)")
+      .def(py::init<>())
+      .def_readwrite("viscous", &JointFrictionConfig::viscous, "(1 or nq) [N m s/rad]")
+      .def_readwrite("coulomb", &JointFrictionConfig::coulomb, "(1 or nq) [N m]")
+      .def_readwrite("smoothing_speed", &JointFrictionConfig::smoothing_speed, "[rad/s]");
+
   py::class_<JointControlInput> in(m, "JointControlInput");
   in.def(py::init<>())
       .def_readwrite("t", &JointControlInput::t, "[s] controller time of this tick")

@@ -53,6 +53,10 @@ void bind_kinematics(py::module_& m) {
       .def_property_readonly("nq", &ArmIk::nq)
       .def_property_readonly("has_analytic", &ArmIk::has_analytic)
       .def_property_readonly("analytic_deviation", &ArmIk::analytic_deviation, "[m, rad]")
+      .def("solver", [](const ArmIk& ik) { return std::string(ik.solver()); },
+           "'ur_analytic' (closed form + LM refinement) or 'numeric'")
+      .def("analytic_reason", &ArmIk::analytic_reason,
+           "why the closed form is not used ('' when it is)")
       .def_property_readonly("report", &ArmIk::report)
       .def("solve",
            [](ArmIk& ik, const Eigen::Matrix4d& target, const Array& seed) {
@@ -87,7 +91,23 @@ void bind_kinematics(py::module_& m) {
            [](const UrAnalyticIk& ik, const Array& q) {
              return Eigen::Matrix4d(ik.forward(Eigen::Matrix<double, 6, 1>(vector_arg(q, 6, "q"))).matrix());
            },
-           py::arg("q"), "T_frame0_tool0 of the DH product (without the base offset)");
+           py::arg("q"), "T_root_tip at joint positions q: base @ DH(theta(q)) @ tool")
+      .def_property_readonly(
+          "dh",
+          [](const UrAnalyticIk& ik) {
+            const UrDhParameters& p = ik.parameters();
+            py::dict d;
+            d["d1"] = p.d1, d["a2"] = p.a2, d["a3"] = p.a3, d["d4"] = p.d4, d["d5"] = p.d5, d["d6"] = p.d6;
+            return d;
+          },
+          "identified UR DH parameters {d1, a2, a3, d4, d5, d6} [m]")
+      .def_property_readonly("base", [](const UrAnalyticIk& ik) { return Eigen::Matrix4d(ik.base().matrix()); },
+                             "T_root_frame0 (4, 4)")
+      .def_property_readonly("tool", [](const UrAnalyticIk& ik) { return Eigen::Matrix4d(ik.tool().matrix()); },
+                             "T_frame6_tip (4, 4)")
+      .def_property_readonly("joint_sign", &UrAnalyticIk::joint_sign, "theta = joint_sign * q + joint_offset")
+      .def_property_readonly("joint_offset", &UrAnalyticIk::joint_offset, "[rad]")
+      .def_property_readonly("deviation", &UrAnalyticIk::deviation, "[m, rad]");
 }
 
 }  // namespace kiloloop::py_glue

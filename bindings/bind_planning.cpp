@@ -75,17 +75,42 @@ void bind_planning(py::module_& m) {
   m.def("segment_box_distance", &segment_box_distance, py::arg("a"), py::arg("b"), py::arg("box"),
         "Exact distance [m] from segment [a, b] to the box (0 when they intersect)");
   m.def("capsules_from_urdf",
-        [](const std::string& path_or_xml, const RobotModel& model) {
+        [](const std::string& path_or_xml, const RobotModel& model, const std::optional<py::dict>& mesh_capsules) {
+          // {link: [LinkCapsule or (a, b, radius)]} in the link frame, for mesh collisions.
+          MeshCapsules given;
+          if (mesh_capsules) {
+            for (const auto& [key, value] : *mesh_capsules) {
+              const std::string link = py::cast<std::string>(key);
+              auto& list = given[link];
+              for (const py::handle& item : value) {
+                if (py::isinstance<LinkCapsule>(item)) {
+                  list.push_back(py::cast<LinkCapsule>(item));
+                  continue;
+                }
+                const py::sequence t = py::reinterpret_borrow<py::sequence>(item);
+                if (t.size() != 3)
+                  throw py::value_error("mesh_capsules['" + link + "']: expected LinkCapsule or (a, b, radius)");
+                LinkCapsule c;
+                c.link = link;
+                c.a = py::cast<Eigen::Vector3d>(t[0]);
+                c.b = py::cast<Eigen::Vector3d>(t[1]);
+                c.radius = py::cast<double>(t[2]);
+                list.push_back(c);
+              }
+            }
+          }
           std::vector<LinkCapsule> caps;
           std::string why;
           const bool is_xml = path_or_xml.find('<') != std::string::npos;
-          raise_if_failed(is_xml ? capsules_from_urdf_string(path_or_xml, model, &caps, &why)
-                                 : capsules_from_urdf_file(path_or_xml, model, &caps, &why),
+          raise_if_failed(is_xml ? capsules_from_urdf_string(path_or_xml, model, given, &caps, &why)
+                                 : capsules_from_urdf_file(path_or_xml, model, given, &caps, &why),
                           why);
           return caps;
         },
-        py::arg("path_or_xml"), py::arg("model"),
-        "Capsules bounding the URDF <collision> primitives of the model's chain links");
+        py::arg("path_or_xml"), py::arg("model"), py::arg("mesh_capsules") = py::none(),
+        "Capsules bounding the URDF <collision> geometry of the model's chain links (and of the\n"
+        "links folded onto them), in chain order. Mesh collisions need mesh_capsules: {link:\n"
+        "[LinkCapsule or (a, b, radius)]} in that link's frame (kiloloop.meshes.capsules_for_urdf).");
 
   py::class_<ArmCollisionChecker>(m, "ArmCollisionChecker", "Link capsules vs box obstacles (exact)")
       .def(py::init([](std::shared_ptr<RobotModel> model, const std::vector<LinkCapsule>& capsules,

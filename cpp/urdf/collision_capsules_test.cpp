@@ -56,5 +56,46 @@ TEST(CollisionCapsules, AMeshCollisionFailsNamingTheLinkAndTheGeometry) {
   EXPECT_TRUE(caps.empty());
 }
 
+TEST(CollisionCapsules, AMeshUsesTheCapsulesGivenForItsLinkInThatLinksFrame) {
+  const std::string xml = two_link_urdf(R"(<mesh filename="package://two/fore.stl"/>)");
+  RobotModel model;
+  std::string why;
+  ASSERT_EQ(model_from_urdf_string(xml, "base", "fore", &model, &why), Status::kOk) << why;
+  LinkCapsule given;
+  given.a = Eigen::Vector3d(0, 0, 0.02);
+  given.b = Eigen::Vector3d(0, 0, 0.25);
+  given.radius = 0.04;
+  std::vector<LinkCapsule> caps;
+  ASSERT_EQ(capsules_from_urdf_string(xml, model, {{"fore", {given, given}}}, &caps, &why), Status::kOk) << why;
+  ASSERT_EQ(caps.size(), 3u);  // upper's cylinder, then the two given for fore's mesh
+  EXPECT_EQ(caps[1].link, "fore");
+  EXPECT_EQ(caps[2].b, given.b);
+  EXPECT_EQ(caps[2].radius, 0.04);
+  // Capsules given for a link that does not exist are a typo, not silently ignored.
+  EXPECT_EQ(capsules_from_urdf_string(xml, model, {{"froe", {given}}}, &caps, &why), Status::kModelError);
+  EXPECT_NE(why.find("'froe'"), std::string::npos) << why;
+}
+
+TEST(CollisionCapsules, AFoldedGripperMovesWithTheTipInItsFrame) {
+  // A finger hangs off 'fore' on a prismatic joint locked at 0.03 m, its sphere 0.05 m further out.
+  std::string xml = two_link_urdf(R"(<cylinder radius="0.03" length="0.2"/>)");
+  xml.replace(xml.rfind("</robot>"), 8, R"(<link name="finger"><collision><origin xyz="0 0 0.05"/>
+    <geometry><sphere radius="0.01"/></geometry></collision></link>
+  <joint name="slide" type="prismatic"><parent link="fore"/><child link="finger"/>
+    <origin xyz="0.1 0 0.2" rpy="0 1.5707963267948966 0"/><axis xyz="1 0 0"/>
+    <limit lower="0" upper="0.04" velocity="0.1" effort="10"/></joint></robot>)");
+  RobotModel model;
+  std::string why;
+  ASSERT_EQ(model_from_urdf_string(xml, "base", "fore", {{"slide", 0.03}}, &model, &why), Status::kOk) << why;
+  std::vector<LinkCapsule> caps;
+  ASSERT_EQ(capsules_from_urdf_string(xml, model, &caps, &why), Status::kOk) << why;
+  ASSERT_EQ(caps.size(), 3u);
+  EXPECT_EQ(caps[2].link, "fore");
+  // finger frame in fore: translate (0.1, 0, 0.2), pitch +90 deg (x -> -z, z -> x), slide 0.03
+  // along the finger's x, i.e. fore's -z; the sphere sits 0.05 along the finger's z = fore's x.
+  EXPECT_NEAR((caps[2].a - Eigen::Vector3d(0.15, 0, 0.17)).norm(), 0.0, 1e-12) << caps[2].a.transpose();
+  EXPECT_EQ(caps[2].radius, 0.01);
+}
+
 }  // namespace
 }  // namespace kiloloop

@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <fstream>
+#include <set>
 #include <sstream>
 
 #include <console_bridge/console.h>
@@ -29,7 +30,13 @@ class CapturedLog : public console_bridge::OutputHandler {
 bool restore_root_inertia(urdf::ModelInterface& model) {
   urdf::LinkSharedPtr root;
   model.getLink(model.getRoot()->name, root);
-  if (!root->inertial || root->inertial->mass <= 0.0) return false;
+  if (!root->inertial) return false;
+  if (root->inertial->mass <= 0.0) {
+    // A massless inertial carries nothing; dropping it spares kdl_parser's root-inertia warning
+    // (printed through a logger we cannot capture).
+    root->inertial.reset();
+    return false;
+  }
   auto base = std::make_shared<urdf::Link>();
   base->name = kVirtualRootName;
   auto joint = std::make_shared<urdf::Joint>();
@@ -57,6 +64,12 @@ Status fail(std::string* why, const std::string& msg) {
 Status model_from_urdf_string(const std::string& xml, const std::string& root,
                               const std::string& tip, RobotModel* out, std::string* why,
                               const std::string& source) {
+  return model_from_urdf_string(xml, root, tip, {}, out, why, source);
+}
+
+Status model_from_urdf_string(const std::string& xml, const std::string& root,
+                              const std::string& tip, const std::map<std::string, double>& locked,
+                              RobotModel* out, std::string* why, const std::string& source) {
   urdf::ModelInterfaceSharedPtr urdf_model;
   std::string parse_errors;
   {
@@ -69,12 +82,13 @@ Status model_from_urdf_string(const std::string& xml, const std::string& root,
                          (parse_errors.empty() ? std::string("parse failed") : parse_errors));
 
   std::map<std::string, JointLimit> limits;
+  std::set<std::string> mimic;
   for (const auto& [name, joint] : urdf_model->joints_) {
     if (joint->type == urdf::Joint::FLOATING || joint->type == urdf::Joint::PLANAR)
       return fail(why, "URDF " + source + ": joint '" + name +
                            "' is floating/planar; model a floating base without a URDF joint");
-    if (joint->mimic)
-      return fail(why, "URDF " + source + ": mimic joint '" + name + "' is not supported");
+    // A mimic joint is an ordinary joint to kdl_parser; only a controlled one is a problem.
+    if (joint->mimic) mimic.insert(name);
     JointLimit lim;
     if (joint->limits && joint->type != urdf::Joint::CONTINUOUS) {
       lim.lower = joint->limits->lower;
@@ -94,10 +108,21 @@ Status model_from_urdf_string(const std::string& xml, const std::string& root,
     if (!kdl_parser::treeFromUrdfModel(*urdf_model, tree))
       return fail(why, "URDF " + source + ": kdl_parser could not build a KDL tree");
   }
-  const Status s = RobotModel::create(tree, root.empty() ? urdf_root : root, tip, limits, out, why);
+  const Status s =
+      RobotModel::create(tree, root.empty() ? urdf_root : root, tip, limits, locked, out, why);
   if (failed(s)) {
     if (why) *why = "URDF " + source + ": " + *why;
     return s;
+  }
+  for (const std::string& joint : out->joint_names()) {
+    if (!mimic.count(joint)) continue;
+    if (!out->has_chain())
+      return fail(why, "URDF " + source + ": mimic joint '" + joint +
+                           "' would be controlled (no tip given: every joint is); give a tip so "
+                           "that it is off the chain");
+    return fail(why, "URDF " + source + ": mimic joint '" + joint + "' is in the chain '" +
+                         out->root_name() + "' -> '" + out->tip_name() +
+                         "'; a controlled chain cannot contain a mimic joint (off the chain it is locked)");
   }
   out->set_root_inertia_restored(restored);
   return s;
@@ -105,11 +130,17 @@ Status model_from_urdf_string(const std::string& xml, const std::string& root,
 
 Status model_from_urdf_file(const std::string& path, const std::string& root,
                             const std::string& tip, RobotModel* out, std::string* why) {
+  return model_from_urdf_file(path, root, tip, {}, out, why);
+}
+
+Status model_from_urdf_file(const std::string& path, const std::string& root,
+                            const std::string& tip, const std::map<std::string, double>& locked,
+                            RobotModel* out, std::string* why) {
   std::ifstream file(path);
   if (!file) return fail(why, "cannot open URDF file '" + path + "'");
   std::stringstream text;
   text << file.rdbuf();
-  return model_from_urdf_string(text.str(), root, tip, out, why, "'" + path + "'");
+  return model_from_urdf_string(text.str(), root, tip, locked, out, why, "'" + path + "'");
 }
 
 }  // namespace kiloloop

@@ -49,6 +49,18 @@ TEST(UrdfLoader, RestoresRootLinkInertiaThatKdlParserDrops) {
   EXPECT_EQ(model.root_name(), "trunk");
 }
 
+TEST(UrdfLoader, AMasslessRootInertialIsDroppedNotRestored) {
+  // As in many vendor URDFs (Kinova's 'base'): an <inertial> of mass 0 on the root link.
+  std::string xml = kTrunkUrdf;
+  xml.replace(xml.find(R"(<mass value="10"/>)"), 18, R"(<mass value="0"/>)");
+  RobotModel model;
+  std::string why;
+  ASSERT_EQ(model_from_urdf_string(xml, "", "leg_a", &model, &why), Status::kOk) << why;
+  EXPECT_FALSE(model.root_inertia_restored());
+  EXPECT_EQ(model.tree().getRootSegment()->first, "trunk");
+  EXPECT_NEAR(model.total_mass(), 2.0, 1e-12);
+}
+
 TEST(UrdfLoader, ContinuousJointHasInfiniteLimits) {
   RobotModel model;
   std::string why;

@@ -3,14 +3,15 @@
 namespace kiloloop {
 
 Status validate(const JointPdGravityConfig& c, int nq, std::string* why) {
-  return validate_joint_settings(c.kp, c.kd, c.gravity, c.max_measurement_age, nq, why);
+  const Status s = validate_joint_settings(c.kp, c.kd, c.gravity, c.max_measurement_age, nq, why);
+  return failed(s) ? s : validate(c.friction, nq, why);
 }
 
 Status JointPdGravityController::configure(const JointPdGravityConfig& config, RobotModelPtr model,
                                            JointPdGravityController* out, std::string* why) {
   JointPdGravityController c;
   const Status s = c.configure_common(config.kp, config.kd, config.gravity,
-                                      config.max_measurement_age, std::move(model), why);
+                                      config.max_measurement_age, config.friction, std::move(model), why);
   if (failed(s)) return s;
   *out = std::move(c);
   return s;

@@ -4,13 +4,16 @@ namespace kiloloop {
 
 Status JointTorqueController::configure_common(const Eigen::VectorXd& kp, const Eigen::VectorXd& kd,
                                                const Eigen::Vector3d& gravity,
-                                               double max_measurement_age, RobotModelPtr model,
-                                               std::string* why) {
+                                               double max_measurement_age,
+                                               const JointFrictionConfig& friction,
+                                               RobotModelPtr model, std::string* why) {
   if (!model) {
     if (why) *why = "model is null";
     return Status::kModelError;
   }
   Status s = validate_joint_settings(kp, kd, gravity, max_measurement_age, model->nq(), why);
+  if (failed(s)) return s;
+  s = friction_.configure(friction, model->nq(), why);
   if (failed(s)) return s;
   s = Dynamics::configure(model, gravity, &dyn_, why);
   if (failed(s)) return s;
@@ -34,6 +37,7 @@ Status JointTorqueController::step(const JointControlInput& in, JointControlOutp
   } else if (const Status l = law(in, guard_.clamped_q_ref(), out.tau); failed(l)) {
     s = guard_.hold(dyn_, l, out.tau);
   } else {
+    friction_.add(in.qd_ref, out.tau);  // the law's torque plus the friction it must overcome
     s = guard_.saturate(worst(r, l), out.tau);
   }
   counters_.record(s);

@@ -22,11 +22,14 @@ Status ArmIk::configure(const ArmIkConfig& config, const RobotModel& model, ArmI
   ik.config_ = config;
   s = NumericIk::configure(config.numeric, model, &ik.numeric_, why);
   if (failed(s)) return s;
-  // Not UR-shaped is not an error: the numeric solver covers any chain.
-  std::string ignored;
-  ik.has_analytic_ = config.use_analytic &&
-                     UrAnalyticIk::from_model(model, &ik.analytic_, &ignored,
-                                                   config.analytic_tolerance) == Status::kOk;
+  // Not UR-shaped is not an error: the numeric solver covers any chain; the reason is kept.
+  if (config.use_analytic) {
+    ik.has_analytic_ = UrAnalyticIk::from_model(model, &ik.analytic_, &ik.analytic_reason_,
+                                                config.analytic_tolerance) == Status::kOk;
+    if (ik.has_analytic_) ik.analytic_reason_.clear();
+  } else {
+    ik.analytic_reason_ = "disabled (use_analytic = false)";
+  }
   *out = std::move(ik);
   return Status::kOk;
 }

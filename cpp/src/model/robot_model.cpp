@@ -16,10 +16,32 @@ std::string unique_leaf(const KDL::Tree& tree, const std::string& from) {
   }
 }
 
+// "'name' is not in the model (links: a, b, ...)": a few names help spot a typo.
+std::string not_in_model(const KDL::Tree& tree, const std::string& what, const std::string& name) {
+  constexpr int kShown = 8;
+  std::string msg = what + " link '" + name + "' is not in the model (links: ";
+  int n = 0;
+  for (const auto& [link, el] : tree.getSegments()) {
+    if (n == kShown) {
+      msg += ", ... " + std::to_string(tree.getSegments().size() - kShown) + " more";
+      break;
+    }
+    msg += (n++ ? ", " : "") + link;
+  }
+  return msg + ")";
+}
+
 }  // namespace
 
 Status RobotModel::create(const KDL::Tree& tree, const std::string& root, const std::string& tip,
                           const std::map<std::string, JointLimit>& limits, RobotModel* out,
+                          std::string* why) {
+  return create(tree, root, tip, limits, {}, out, why);
+}
+
+Status RobotModel::create(const KDL::Tree& tree, const std::string& root, const std::string& tip,
+                          const std::map<std::string, JointLimit>& limits,
+                          const std::map<std::string, double>& locked, RobotModel* out,
                           std::string* why) {
   auto fail = [&](const std::string& msg) {
     if (why) *why = msg;
@@ -30,19 +52,28 @@ Status RobotModel::create(const KDL::Tree& tree, const std::string& root, const 
   m.tree_ = tree;
   m.root_ = root.empty() ? tree.getRootSegment()->first : root;
   if (tree.getSegment(m.root_) == tree.getSegments().end())
-    return fail("root link '" + m.root_ + "' is not in the model");
+    return fail(not_in_model(tree, "root", m.root_));
   m.tip_ = tip.empty() ? unique_leaf(tree, m.root_) : tip;
   if (!tip.empty() && tree.getSegment(tip) == tree.getSegments().end())
-    return fail("tip link '" + tip + "' is not in the model");
+    return fail(not_in_model(tree, "tip", tip));
 
   std::vector<std::string> names;
   if (!m.tip_.empty()) {
+    std::vector<std::string> path;
+    Status s = chain_path(tree, m.root_, m.tip_, &path, why);
+    if (failed(s)) return s;
     if (!tree.getChain(m.root_, m.tip_, m.chain_))
       return fail("no chain from '" + m.root_ + "' to '" + m.tip_ + "'");
+    s = fold_off_chain_mass(tree, path, locked, &m.chain_, &m.folded_, why);
+    if (failed(s)) return s;
+    m.locked_ = locked;
     m.has_chain_ = true;
     for (const auto& seg : m.chain_.segments)
       if (seg.getJoint().getType() != KDL::Joint::None) names.push_back(seg.getJoint().getName());
   } else {
+    if (!locked.empty())
+      return fail("locked joint '" + locked.begin()->first +
+                  "': locking applies to joints off a chain; give a tip link");
     // Branching tree without a tip: joints in KDL's q_nr order, so vectors index like KDL's.
     names.resize(tree.getNrOfJoints());
     for (const auto& [name, el] : tree.getSegments()) {

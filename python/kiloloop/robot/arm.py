@@ -84,6 +84,40 @@ def joint_gains(robot, model, law: str, q: np.ndarray, dynamics=None):
     return kp, kd
 
 
+def urdf_dynamics(robot) -> dict[str, tuple[float, float]]:
+    """joint name -> (damping [N m s/rad], friction [N m]) from the URDF's <dynamics> elements."""
+    import xml.etree.ElementTree as ET
+
+    out = {}
+    for joint in ET.parse(robot.urdf).getroot().findall("joint"):
+        dyn = joint.find("dynamics")
+        if dyn is not None:
+            out[joint.get("name")] = (float(dyn.get("damping", 0.0)), float(dyn.get("friction", 0.0)))
+    return out
+
+
+def joint_friction(robot, model):
+    """kl.JointFrictionConfig the arm controllers compensate: [controller] viscous_friction /
+    coulomb_friction if given, else the URDF's <dynamics> of the chain joints (0 where none);
+    all zero when friction_compensation is false."""
+    import kiloloop as kl
+
+    c = controller_settings(robot)
+    f = kl.JointFrictionConfig()
+    f.smoothing_speed = float(c["friction_smoothing_speed"])
+    if not c["friction_compensation"]:
+        return f
+    urdf = urdf_dynamics(robot)
+    viscous = np.array([urdf.get(n, (0.0, 0.0))[0] for n in model.joint_names])
+    coulomb = np.array([urdf.get(n, (0.0, 0.0))[1] for n in model.joint_names])
+    if "viscous_friction" in c:
+        viscous = np.broadcast_to(np.asarray(c["viscous_friction"], float), (model.nq,)).copy()
+    if "coulomb_friction" in c:
+        coulomb = np.broadcast_to(np.asarray(c["coulomb_friction"], float), (model.nq,)).copy()
+    f.viscous, f.coulomb = viscous, coulomb
+    return f
+
+
 def summary(robot, model) -> list[str]:
     """Lines for `kiloloop robot check`: derived settings, the plant, the controllers."""
     import kiloloop as kl
@@ -107,6 +141,8 @@ def summary(robot, model) -> list[str]:
         f"    computed torque kp, kd     {kp[0]:.4g}, {kd[0]:.4g} (bandwidth "
         f"{controller_settings(robot)['bandwidth']:.4g} rad/s)",
         f"    PD + gravity kp            {_fmt(kp_pd)}",
+        f"    friction compensated       viscous {_fmt(joint_friction(robot, model).viscous)}, "
+        f"Coulomb {_fmt(joint_friction(robot, model).coulomb)}",
         f"    IK solver                  {solver}" + (f" ({why})" if why else ""),
         f"  plant: {plant.model.nbody - 1} bodies, {plant.nq} actuated joints "
         f"({', '.join(plant.joint_names)}), {plant.welded} welded; mass {plant.total_mass():.4g} kg"

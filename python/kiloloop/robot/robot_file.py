@@ -174,12 +174,6 @@ class Robot:
     def urdf_text(self) -> str:
         return self.urdf.read_text()
 
-    def resolved_urdf_text(self) -> str:
-        """The URDF with mesh URIs (package://, relative) turned into absolute file paths."""
-        from .packages import resolve_urdf_text
-
-        return resolve_urdf_text(self.urdf_text(), self.urdf.parent, self.package_dirs)
-
     def digest(self) -> str:
         """SHA-256 of the robot file and its URDF (what a firmware export records)."""
         h = hashlib.sha256()

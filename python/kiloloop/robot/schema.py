@@ -29,6 +29,12 @@ def _arm() -> dict:
             "damping_ratio": 1.0,    # [-]
             "kp": FREE, "kd": FREE,  # explicit per-joint (or scalar) gains override the above
             "max_measurement_age": 0.005,  # [s]
+            # Joint friction the controllers compensate; default: the URDF's <dynamics damping
+            # friction> of the chain joints (scalar or one per joint).
+            "friction_compensation": True,
+            "viscous_friction": FREE,      # [N m s/rad]
+            "coulomb_friction": FREE,      # [N m]
+            "friction_smoothing_speed": 0.01,  # [rad/s]
         },
         "sim": {section: dict(values) for section, values in plant.items()},
         # Link capsules for planning: { link = [[x0,y0,z0, x1,y1,z1, r], ...] } in the link frame;

@@ -16,7 +16,7 @@ import numpy as np
 import kiloloop as kl
 
 from ..sil.arm_adapters import CartesianTick
-from ..sil.arm_rig import ArmRig, line_target, work_pose
+from ..sil.arm_rig import ArmRig, joint_config, line_target, work_pose
 from ..sil.native import Observe
 from . import ScenarioResult, evaluate
 
@@ -83,7 +83,7 @@ def run(settings: dict, seed: int = 0, duration: float | None = None,
     line = make_line(model, q0, settings)
     config = kl.CartesianTrackingConfig()
     config.task_gain = np.full(6, float(settings["task_gain"]))
-    config.joint.max_measurement_age = 0.005 + settings["delay_ticks"] * 0.001
+    config.joint = joint_config(robot, model, q0, settings["delay_ticks"])
     tick = CartesianTick(kl.CartesianTrackingController(model, config), line)
 
     log = rig.run(tick, DURATION if duration is None else duration,

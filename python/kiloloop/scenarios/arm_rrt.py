@@ -34,6 +34,9 @@ DEFAULTS = {
     "box_center": [],               # [m] chain root frame (the plant's world when the root is)
     "box_half_extents": [],         # [m]
     "margin": 0.02,                 # [m] planning clearance to the box and the floor
+    # [m] the planner's floor; None: 0, lowered just enough for links whose height no joint can
+    # change (a shoulder turning about a vertical first joint) whose capsules reach below it.
+    "floor_z": None,
     "max_iterations": 20000,        # RRT-Connect cap
     "shortcut_iterations": 300,
     "velocity_scale": 0.5,          # fraction of the URDF velocity limits
@@ -49,23 +52,26 @@ CRITERIA = {
 }
 
 
-def _floor_slab():
-    # The floor as a thick box under z = 0 for the planner (MuJoCo has its own plane).
-    return kl.OrientedBox(center=[0.0, 0.0, -0.5], half_extents=[5.0, 5.0, 0.5])
+def _floor_slab(top: float = 0.0):
+    # The floor as a thick box under z = top for the planner (MuJoCo has its own plane at 0).
+    return kl.OrientedBox(center=[0.0, 0.0, top - 0.5], half_extents=[5.0, 5.0, 0.5])
 
 
 def make_checker(model, capsules, settings):
     """Link capsules (the fixed base left out: it cannot move), box + floor."""
     capsules = [c for c in capsules if c.link != model.root_name]
     box = kl.OrientedBox(center=settings["box_center"], half_extents=settings["box_half_extents"])
-    return kl.ArmCollisionChecker(model, capsules, [box, _floor_slab()], margin=settings["margin"])
+    floor = _floor_slab(float(settings.get("floor_z") or 0.0))
+    return kl.ArmCollisionChecker(model, capsules, [box, floor], margin=settings["margin"])
 
 
 def derive_targets(robot, model, capsules, plant, settings) -> dict:
     """Start, goal and box for a robot (what the settings leave empty)."""
     s = dict(settings)
-    q_start = np.asarray(s["q_start"], float) if len(s["q_start"]) else work_pose(robot, model,
-                                                                                   plant)
+    if s["floor_z"] in (None, "", "none"):
+        s["floor_z"] = _floor_below_fixed_links(plant, capsules, float(s["margin"]))
+    q_start = np.asarray(s["q_start"], float) if len(s["q_start"]) else _planner_clear(
+        model, capsules, work_pose(robot, model, plant), s)
     if not len(s["q_goal"]):
         q_goal = q_start.copy()
         lo, up = np.asarray(model.lower)[0], np.asarray(model.upper)[0]
@@ -91,6 +97,42 @@ def derive_targets(robot, model, capsules, plant, settings) -> dict:
         tool = tool.copy()
         tool[2] *= 0.8
     raise ValueError(f"{robot.name}: no box fits between start and goal")
+
+
+def _floor_below_fixed_links(plant, capsules, margin: float) -> float:
+    """[m] 0, or lower: just below the capsules of links that only a vertical first joint moves
+    (their height is no choice of the planner; a conservative capsule may reach the floor)."""
+    from ..sil.arm_rig import PoseProbe
+
+    m, d = plant.model, plant.data
+    fixed = {m.body(b).name for b in PoseProbe.height_fixed_bodies(plant)}
+    lowest = 0.0
+    for c in capsules:
+        if c.link not in fixed:
+            continue
+        b = m.body(c.link).id
+        R, p = d.xmat[b].reshape(3, 3), d.xpos[b]
+        z = min((R @ np.asarray(end, float) + p)[2] for end in (c.a, c.b)) - c.radius
+        lowest = min(lowest, z - margin - 1e-3)
+    return float(lowest)
+
+
+def _planner_clear(model, capsules, q_near, settings, candidates: int = 400) -> np.ndarray:
+    """q_near if the planner's capsules clear the floor there by the margin; else the seeded pose
+    near it (offsets within the limits, at most 0.5 rad per joint) that clears it the most."""
+    far = dict(settings, box_center=[1e3, 1e3, 1e3], box_half_extents=[0.1, 0.1, 0.1])
+    checker = make_checker(model, capsules, far)
+    if checker.clearance(q_near) > 0:
+        return q_near
+    rng = np.random.default_rng(7)
+    lo, up = np.asarray(model.lower), np.asarray(model.upper)
+    best, best_clear = q_near, checker.clearance(q_near)
+    for _ in range(candidates):
+        q = np.clip(q_near + rng.uniform(-0.5, 0.5, model.nq), lo, up)
+        c = checker.clearance(q)
+        if c > best_clear:
+            best, best_clear = q, c
+    return best
 
 
 def plan(model, capsules, settings, seed: int):

@@ -25,9 +25,12 @@ DEFAULTS = {
     "controller": "computed_torque",  # or "pd_gravity"
     "physics_dt": 0.001,  # [s] MuJoCo timestep; the control period stays 1 ms
     "delay_ticks": 0,     # measurement delay [ticks]
-    "damping": 0.0,       # plant-only joint damping [N m s/rad] (unmodelled by the controller)
-    "frictionloss": 0.0,  # plant-only Coulomb friction [N m]
-    "armature": 0.0,      # plant-only rotor inertia [kg m^2]
+    # Plant-only joint damping [N m s/rad], Coulomb friction [N m] and rotor inertia [kg m^2] that
+    # the controller does not know of; None: the robot's own (its URDF / [sim.joints]), which the
+    # controller compensates.
+    "damping": None,
+    "frictionloss": None,
+    "armature": None,
     # [rad] start and waypoints; empty: derived from the robot (work pose, half the free range).
     "q_start": [],
     "waypoint_1": [],
@@ -62,9 +65,9 @@ def run(settings: dict, seed: int = 0, duration: float | None = None,
         robot=None) -> ScenarioResult:
     del seed  # deterministic: no noise in this scenario
     robot = robot or kl.Robot.load("ur5")
-    rig = ArmRig(robot, video=settings.get("video"), timestep=settings["physics_dt"],
-                 damping=settings["damping"], frictionloss=settings["frictionloss"],
-                 armature=settings["armature"])
+    plant_only = {k: None if settings[k] in (None, "", "none") else float(settings[k])
+                  for k in ("damping", "frictionloss", "armature")}
+    rig = ArmRig(robot, video=settings.get("video"), timestep=settings["physics_dt"], **plant_only)
     plant, model = rig.plant, rig.model
     points = waypoints(rig, settings)
     plant.q0 = points[0]

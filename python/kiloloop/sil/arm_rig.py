@@ -72,7 +72,7 @@ class PoseProbe:
         self.reach = reach(plant)
         self.site = m.site(plant.ee_site).id
         self.base_z = float(plant.data.xanchor[m.joint(plant.joint_names[0]).id][2])
-        moving = set(_moving_bodies(m).tolist()) - self._height_fixed(plant)
+        moving = set(_moving_bodies(m).tolist()) - self.height_fixed_bodies(plant)
         floor = [g for g in range(m.ngeom) if m.geom(g).name == "floor"]
         self.floor = floor[0] if floor else None
         self.geoms = [g for g in range(m.ngeom) if m.geom_bodyid[g] in moving
@@ -81,7 +81,7 @@ class PoseProbe:
         self._fromto = np.zeros(6)
 
     @staticmethod
-    def _height_fixed(plant) -> set:
+    def height_fixed_bodies(plant) -> set:
         """Bodies that only a vertical first joint moves (a UR shoulder): their height never
         changes, so their clearance to the floor is no choice of the pose."""
         m, d = plant.model, plant.data
@@ -99,7 +99,7 @@ class PoseProbe:
         return out
 
     def at(self, q) -> None:
-        self.data.qpos[self.plant._qadr] = q
+        self.data.qpos[self.plant.qpos_addresses] = q
         mujoco.mj_kinematics(self.plant.model, self.data)
         mujoco.mj_comPos(self.plant.model, self.data)
 
@@ -108,7 +108,7 @@ class PoseProbe:
         of the reach [m] so that both halves weigh alike (a chain under 6 joints: its rank)."""
         p = self.plant
         mujoco.mj_jacSite(p.model, self.data, self._jacp, self._jacr, self.site)
-        J = np.vstack([self._jacp[:, p._dadr], self._jacr[:, p._dadr] * (self.reach / 3.0)])
+        J = np.vstack([self._jacp[:, p.dof_addresses], self._jacr[:, p.dof_addresses] * (self.reach / 3.0)])
         sv = np.linalg.svd(J, compute_uv=False)
         return float(sv[min(J.shape) - 1] / sv[0]) if sv[0] > 0 else 0.0
 
@@ -220,19 +220,28 @@ class ArmRig:
                 recorder.close()
 
 
+def joint_config(robot, model, q, delay_ticks: int = 0, config=None):
+    """kl.ComputedTorqueConfig from the robot file: gains (bandwidth), measurement age, friction."""
+    c = config or kl.ComputedTorqueConfig()
+    c.kp, c.kd = arm_defaults.joint_gains(robot, model, "computed_torque", q)
+    age = float(arm_defaults.controller_settings(robot)["max_measurement_age"])
+    c.max_measurement_age = age + delay_ticks * 0.001
+    c.friction = arm_defaults.joint_friction(robot, model)
+    return c
+
+
 def controller(robot, model, law: str, q, *, delay_ticks: int = 0, config=None):
     """A compiled joint controller with gains derived from the robot file (robot/arm.py)."""
     kp, kd = arm_defaults.joint_gains(robot, model, law, q)
     age = float(arm_defaults.controller_settings(robot)["max_measurement_age"])
     if law == "computed_torque":
-        c = config or kl.ComputedTorqueConfig()
-        c.kp, c.kd = kp, kd
-        c.max_measurement_age = age + delay_ticks * 0.001
-        return kl.ComputedTorqueController(model, c)
+        return kl.ComputedTorqueController(model, joint_config(robot, model, q, delay_ticks,
+                                                               config))
     if law == "pd_gravity":
         c = config or kl.JointPdGravityConfig()
         c.kp, c.kd = kp, kd
         c.max_measurement_age = age + delay_ticks * 0.001
+        c.friction = arm_defaults.joint_friction(robot, model)
         return kl.JointPdGravityController(model, c)
     raise ValueError(f"controller: expected 'computed_torque' or 'pd_gravity', got {law!r}")
 
@@ -345,8 +354,9 @@ def line_target(rig: ArmRig, q0, duration: float) -> tuple[np.ndarray, np.ndarra
 
 
 def link_capsules(robot, model) -> list:
-    """Collision capsules of the chain's links for planning: the robot file's [collision] capsules
-    where it gives them, else capsules bounding the URDF's collision primitives."""
+    """Collision capsules of the chain's links (and of what is folded onto them) for planning: the
+    robot file's [collision] capsules when it gives them, else capsules bounding the URDF's
+    collision primitives and capsules fitted to its collision meshes (kiloloop.meshes)."""
     given = robot.section("collision").get("capsules", {})
     capsules = []
     for link, rows in given.items():
@@ -359,4 +369,8 @@ def link_capsules(robot, model) -> list:
             capsules.append(c)
     if given:
         return capsules
-    return list(kl.capsules_from_urdf(str(robot.urdf), model))
+    from ..meshes import capsules_for_urdf
+
+    # Mesh collisions (every real arm's): one capsule fitted around each mesh's vertices.
+    fitted = capsules_for_urdf(str(robot.urdf), robot.package_dirs)
+    return list(kl.capsules_from_urdf(str(robot.urdf), model, fitted or None))

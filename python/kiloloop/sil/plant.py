@@ -31,7 +31,7 @@ _INTEGRATORS = {"euler": mujoco.mjtIntegrator.mjINT_EULER,
 _ACTUATED = ("revolute", "continuous", "prismatic")
 
 
-def _load_overlay(overlay, defaults: dict = _DEFAULTS) -> dict:
+def load_overlay(overlay, defaults: dict = _DEFAULTS) -> dict:
     """The overlay (a sim.toml path, a dict of its sections, or None) merged over `defaults`."""
     if overlay is None:
         user = {}
@@ -48,7 +48,7 @@ def _load_overlay(overlay, defaults: dict = _DEFAULTS) -> dict:
     return merged
 
 
-def _per_joint(value, n: int, name: str) -> np.ndarray:
+def per_joint(value, n: int, name: str) -> np.ndarray:
     arr = np.asarray(value, dtype=float)
     if arr.ndim == 0:
         arr = np.full(n, float(arr))
@@ -58,7 +58,7 @@ def _per_joint(value, n: int, name: str) -> np.ndarray:
     return arr
 
 
-def _urdf_joints(urdf_path: Path) -> tuple[list[str], np.ndarray]:
+def urdf_joints(urdf_path: Path) -> tuple[list[str], np.ndarray]:
     """Actuated joint names in URDF document order, and their effort limits [N m] (inf if none)."""
     names, effort = [], []
     # Direct children only: <transmission> elements also contain <joint> tags.
@@ -72,12 +72,12 @@ def _urdf_joints(urdf_path: Path) -> tuple[list[str], np.ndarray]:
     return names, np.array(effort)
 
 
-def _add_joints_and_motors(spec, joint_names, effort, jcfg: dict, actuators: dict) -> None:
+def add_joints_and_motors(spec, joint_names, effort, jcfg: dict, actuators: dict) -> None:
     """Joint damping/friction/armature from the overlay, one torque motor per joint (ctrlrange =
     forcerange = +-effort) and jointpos/jointvel encoders named <joint>_pos, <joint>_vel."""
     n = len(joint_names)
     # None: keep what MuJoCo imported from the URDF's <dynamics damping friction> (0 without).
-    damp, fric, arm = (None if jcfg[k] is None else _per_joint(jcfg[k], n, k)
+    damp, fric, arm = (None if jcfg[k] is None else per_joint(jcfg[k], n, k)
                        for k in ("damping", "frictionloss", "armature"))
     for i, name in enumerate(joint_names):
         joint = spec.joint(name)
@@ -101,7 +101,7 @@ def _add_joints_and_motors(spec, joint_names, effort, jcfg: dict, actuators: dic
                         objtype=mujoco.mjtObj.mjOBJ_JOINT, objname=name)
 
 
-def _spec_from_urdf(urdf_path: Path, phys: dict, package_dirs=(), visual: bool = False,
+def spec_from_urdf(urdf_path: Path, phys: dict, package_dirs=(), visual: bool = False,
                     notes: list | None = None):
     """The URDF as an MjSpec with the compiler settings every plant uses, and the overlay's
     integrator, timestep and gravity. Mesh URIs are resolved and unreadable meshes replaced
@@ -132,9 +132,9 @@ def collision_geoms(spec) -> list:
     return [g for g in spec.geoms if not (g.contype == 0 and g.conaffinity == 0 and g.group == 1)]
 
 
-def _joint_addresses(m, joint_names) -> tuple[np.ndarray, ...]:
+def joint_addresses(m, joint_names) -> tuple[np.ndarray, ...]:
     """qpos and dof addresses, motor ids and encoder sensor addresses of the named joints (as
-    built by _add_joints_and_motors)."""
+    built by add_joints_and_motors)."""
     jid = [m.joint(n).id for n in joint_names]
     return (m.jnt_qposadr[jid].copy(), m.jnt_dofadr[jid].copy(),
             np.array([m.actuator(n).id for n in joint_names]),
@@ -153,7 +153,7 @@ class MujocoPlant:
         `locked` (joint -> [rad] or [m], default 0). package_dirs: for package:// mesh URIs.
         visual: keep visual geometry (for rendering)."""
         urdf_path = Path(urdf_path)
-        cfg = _load_overlay(overlay)
+        cfg = load_overlay(overlay)
         phys, jcfg = cfg["physics"], cfg["joints"]
         for key, val in (("damping", damping), ("frictionloss", frictionloss),
                          ("armature", armature)):
@@ -164,7 +164,7 @@ class MujocoPlant:
         if floor is not None:
             phys["floor"] = floor
 
-        all_names, all_effort = _urdf_joints(urdf_path)
+        all_names, all_effort = urdf_joints(urdf_path)
         if joints is None:
             joints = all_names
         missing = [n for n in joints if n not in all_names]
@@ -176,7 +176,7 @@ class MujocoPlant:
         self.nq = len(self.joint_names)
 
         self.notes: list[str] = []
-        spec = _spec_from_urdf(urdf_path, phys, package_dirs, visual, self.notes)
+        spec = spec_from_urdf(urdf_path, phys, package_dirs, visual, self.notes)
         welded = weld_joints(spec, self.joint_names, locked)
         self.welded = len(welded)
         if welded:
@@ -190,7 +190,7 @@ class MujocoPlant:
             spec.worldbody.add_geom(name="floor", type=mujoco.mjtGeom.mjGEOM_PLANE,
                                     size=[0.0, 0.0, 0.05], contype=1, conaffinity=1)
 
-        _add_joints_and_motors(spec, self.joint_names, effort, jcfg, cfg["actuators"])
+        add_joints_and_motors(spec, self.joint_names, effort, jcfg, cfg["actuators"])
 
         ee = cfg["ee"]
         self.ee_site = ee["site"]
@@ -216,7 +216,9 @@ class MujocoPlant:
 
         m = self.model
         (self._qadr, self._dadr, self._act, self._pos_sens,
-         self._vel_sens) = _joint_addresses(m, self.joint_names)
+         self._vel_sens) = joint_addresses(m, self.joint_names)
+        # Public: where the controlled joints live in MuJoCo's qpos and qvel (rigs and probes).
+        self.qpos_addresses, self.dof_addresses = self._qadr, self._dadr
         self._site = m.site(self.ee_site).id
         q0 = jcfg["q0"]
         self.q0 = np.zeros(self.nq) if q0 is None else self._vector(q0, "q0")
@@ -288,3 +290,8 @@ class MujocoPlant:
         finally:
             self.model.opt.disableflags = flags
         return d.qfrc_inverse[self._dadr].copy()
+
+
+# Old private names, still imported by the floating-base plants until they move to the public ones.
+_load_overlay, _urdf_joints, _add_joints_and_motors = load_overlay, urdf_joints, add_joints_and_motors
+_spec_from_urdf, _joint_addresses = spec_from_urdf, joint_addresses

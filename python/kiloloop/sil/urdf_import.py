@@ -21,19 +21,26 @@ MUJOCO_MESH_FORMATS = (".stl", ".obj", ".msh")
 MOVABLE = ("revolute", "continuous", "prismatic")
 
 
-def _resolve(uri: str, urdf_dir: Path, package_dirs) -> Path:
-    from ..robot.packages import resolve_uri
+def _resolve(uri: str, urdf_dir: Path, package_dirs) -> Path | None:
+    """The mesh file, or None when the file is missing (a package that no package_dirs entry has
+    is an error: the robot file is wrong, not the mesh)."""
+    from ..meshes import resolve_uri
 
-    return resolve_uri(uri, urdf_dir, package_dirs)
+    try:
+        return resolve_uri(uri, urdf_dir, package_dirs)
+    except ValueError as e:
+        if "package '" in str(e):
+            raise
+        return None
 
 
 def _fit_box(path: Path, scale) -> tuple[np.ndarray, np.ndarray]:
-    """(centre, half extents) [m] of the mesh's axis-aligned box in the mesh frame, scaled."""
-    import trimesh
+    """(centre, half extents) [m] of the mesh's axis-aligned box in the mesh frame, scaled (the
+    mesh read by kiloloop.meshes: trimesh, COLLADA units applied)."""
+    from ..meshes import fit_box, load_mesh
 
-    mesh = trimesh.load(str(path), force="mesh")
-    lo, hi = (np.asarray(b, dtype=float) * scale for b in mesh.bounds)
-    return (lo + hi) / 2.0, np.maximum((hi - lo) / 2.0, 1e-4)
+    centre, half = fit_box(load_mesh(path, scale))
+    return np.asarray(centre, dtype=float), np.maximum(np.asarray(half, dtype=float), 1e-4)
 
 
 def _rpy_matrix(rpy) -> np.ndarray:
@@ -64,7 +71,12 @@ def prepare_urdf(urdf_path: Path, package_dirs=(), *, visual: bool = False) -> t
                     continue
                 uri = mesh.get("filename")
                 path = _resolve(uri, urdf_path.parent, package_dirs)
-                if path.suffix.lower() in MUJOCO_MESH_FORMATS and path.is_file():
+                if path is None:
+                    link.remove(elem)
+                    notes.append(f"link '{link.get('name')}': {tag} mesh {uri} dropped (file not "
+                                 f"found)")
+                    continue
+                if path.suffix.lower() in MUJOCO_MESH_FORMATS:
                     mesh.set("filename", str(path))
                     continue
                 scale = _floats(mesh.get("scale"), 3, 1.0)

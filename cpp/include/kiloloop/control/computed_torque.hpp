@@ -8,6 +8,7 @@
 
 #include <Eigen/Core>
 
+#include "kiloloop/control/joint_friction.hpp"
 #include "kiloloop/control/joint_torque_controller.hpp"
 
 namespace kiloloop {
@@ -17,6 +18,7 @@ struct ComputedTorqueConfig {
   Eigen::VectorXd kd = Eigen::VectorXd::Constant(1, 60.0);   // (1 or nq) [1/s]   damping
   Eigen::Vector3d gravity = Eigen::Vector3d(0.0, 0.0, -9.81);  // [m/s^2] in the chain root frame
   double max_measurement_age = 0.005;  // [s] older measurements trigger the hold fallback
+  JointFrictionConfig friction;        // compensated joint friction (0: none)
 };
 
 Status validate(const ComputedTorqueConfig& config, int nq, std::string* why);

@@ -1,11 +1,12 @@
 #pragma once
 // The frame shared by the joint-space torque controllers: configure-time sizing, the step()
-// contract (size check, bad-input policy of JointInputGuard, saturation, counters). A concrete
-// controller only supplies its control law.
+// contract (size check, bad-input policy of JointInputGuard, friction compensation, saturation,
+// counters). A concrete controller only supplies its control law.
 #include <string>
 
 #include <Eigen/Core>
 
+#include "kiloloop/control/joint_friction.hpp"
 #include "kiloloop/control/joint_io.hpp"
 #include "kiloloop/dynamics/dynamics.hpp"
 #include "kiloloop/safety/joint_input_guard.hpp"
@@ -31,7 +32,8 @@ class JointTorqueController {
  protected:
   Status configure_common(const Eigen::VectorXd& kp, const Eigen::VectorXd& kd,
                           const Eigen::Vector3d& gravity, double max_measurement_age,
-                          RobotModelPtr model, std::string* why);
+                          const JointFrictionConfig& friction, RobotModelPtr model,
+                          std::string* why);
   // The law itself, on a validated measurement and a validated (clamped) reference q_ref.
   virtual Status law(const JointControlInput& in, const Eigen::VectorXd& q_ref,
                      Eigen::Ref<Eigen::VectorXd> tau) noexcept = 0;
@@ -41,6 +43,7 @@ class JointTorqueController {
 
  private:
   JointInputGuard guard_;
+  JointFriction friction_;
   StepCounters counters_;
   bool configured_ = false;
 };

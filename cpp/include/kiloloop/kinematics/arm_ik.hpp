@@ -30,6 +30,14 @@ class ArmIk {
 
   int nq() const { return numeric_.nq(); }
   bool has_analytic() const { return has_analytic_; }
+  // The solver in use: "ur_analytic" (closed form, refined numerically) or "numeric".
+  const char* solver() const { return has_analytic_ ? "ur_analytic" : "numeric"; }
+  // Why the closed form is not used (empty when it is), e.g. "UR analytic IK: not a UR-style
+  // arm: joint 3 ('elbow') axis not parallel to joint 2 ('shoulder')" or "disabled
+  // (use_analytic = false)".
+  const std::string& analytic_reason() const { return analytic_reason_; }
+  // The closed form itself (meaningful only when has_analytic()).
+  const UrAnalyticIk& analytic() const { return analytic_; }
   // FK deviation of the chain from the closed form [m, rad] (0 without one).
   double analytic_deviation() const { return has_analytic_ ? analytic_.deviation() : 0.0; }
   // Statuses as NumericIk::solve. report().iterations counts numeric iterations only.
@@ -43,6 +51,7 @@ class ArmIk {
   NumericIk numeric_;
   UrAnalyticIk analytic_;
   bool has_analytic_ = false;
+  std::string analytic_reason_;
   UrAnalyticIk::Solutions candidates_;
 };
 

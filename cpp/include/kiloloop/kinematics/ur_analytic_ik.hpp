@@ -1,5 +1,5 @@
 #pragma once
-// Closed-form inverse kinematics of the Universal Robots family (UR3/5/10/e): standard DH with
+// Closed-form inverse kinematics of the Universal Robots family (UR3/5/10/16/e): standard DH with
 // alpha = (pi/2, 0, 0, pi/2, -pi/2, 0), three parallel joints (2, 3, 4) and a shoulder offset.
 // Up to 8 solutions: shoulder left/right (theta1) x wrist up/down (theta5) x elbow up/down
 // (theta3). Each angle is shifted by multiples of 2 pi to the value nearest the seed inside the
@@ -33,33 +33,46 @@ class UrAnalyticIk {
  public:
   static constexpr int kMaxSolutions = 8;
   using Solutions = Eigen::Matrix<double, 6, kMaxSolutions>;
+  using Vector6 = Eigen::Matrix<double, 6, 1>;
 
   UrAnalyticIk() = default;
   // base: T_root_frame0 (fixed frames before joint 1); lower/upper: (6) joint limits [rad].
+  // The joint angles are the DH angles and the tip is DH frame 6 (no tool transform).
   static Status configure(const UrDhParameters& dh, const Eigen::Isometry3d& base,
                           const Eigen::Matrix<double, 6, 1>& lower,
                           const Eigen::Matrix<double, 6, 1>& upper, UrAnalyticIk* out,
                           std::string* why);
-  // Reads the DH parameters off a model whose chain is written as UR standard DH (models/ur5:
-  // link i frame = DH frame i-1 rotated by q_i), then checks FK against the model's own chain at
-  // seeded random configurations; kModelError with the reason when it deviates by more than
-  // `tolerance` [m and rad]. A loose tolerance accepts a nearly-UR chain (e.g. a calibrated arm)
-  // whose closed-form solutions are then only seeds, to be refined numerically (ArmIk).
+  // Recognises a UR-style arm (UR3/5/10/16, e-series, any base and tool frames, any joint zero
+  // and axis sign) from its geometry rather than from one frame layout: the joint axes at q = 0
+  // must be 1 perp. and meeting 2, 2 || 3 || 4, 4 perp. and meeting 5, 5 perp. and meeting 6.
+  // From those axis lines it builds the standard DH frames, giving the DH parameters, the joint
+  // map theta_i = sign_i q_i + offset_i and the constant base and tool transforms, then checks
+  // T_root_tip = base * DH(theta(q)) * tool against the chain's FK at seeded random
+  // configurations. kModelError with the reason (which joint pair breaks the pattern, or the FK
+  // deviation) when a check fails by more than `tolerance` [m and rad]. A loose tolerance accepts
+  // a nearly-UR chain (e.g. a calibrated arm) whose closed-form solutions are then only seeds, to
+  // be refined numerically (ArmIk).
   static Status from_model(const RobotModel& model, UrAnalyticIk* out, std::string* why,
                            double tolerance = 1e-9);
 
   const UrDhParameters& parameters() const { return dh_; }
   // T_root_frame0: the fixed frames before joint 1 (configure's `base`).
   const Eigen::Isometry3d& base() const { return base_; }
+  // T_frame6_tip: DH frame 6 (on joint 6's axis) to the chain tip; identity from configure.
+  const Eigen::Isometry3d& tool() const { return tool_; }
+  // theta_i = joint_sign_i q_i + joint_offset_i: model joint positions to DH angles [rad].
+  const Vector6& joint_sign() const { return sign_; }
+  const Vector6& joint_offset() const { return offset_; }
   // Largest FK deviation of the model's chain from this closed form seen by from_model [m, rad].
   double deviation() const { return deviation_; }
-  // T_root_tool0 at q (6), the closed-form standard-DH product.
+  // T_root_tip at joint positions q (6): base * DH(theta(q)) * tool.
   Eigen::Isometry3d forward(const Eigen::Matrix<double, 6, 1>& q) const noexcept;
 
-  // All solutions for T_root_tool0 = target (columns 0..count-1 of `out`, nearest to `seed`
-  // first). kOk with count >= 1; kUnreachable with count 0 when the target is out of reach or
-  // every solution violates the limits; kNonFiniteReference for a non-finite target or seed.
-  // At the wrist singularity (sin t5 = 0) t6 is free and is taken from the seed.
+  // All solutions for T_root_tip = target (columns 0..count-1 of `out`, joint positions of the
+  // model, nearest to `seed` first). kOk with count >= 1; kUnreachable with count 0 when the
+  // target is out of reach or every solution violates the limits; kNonFiniteReference for a
+  // non-finite target or seed. At the wrist singularity (sin t5 = 0) t6 is free and is taken
+  // from the seed.
   Status solve(const Eigen::Isometry3d& target, const Eigen::Matrix<double, 6, 1>& seed,
                Solutions& out, int* count) const noexcept;
 
@@ -67,7 +80,11 @@ class UrAnalyticIk {
   UrDhParameters dh_;
   Eigen::Isometry3d base_ = Eigen::Isometry3d::Identity();
   Eigen::Isometry3d base_inv_ = Eigen::Isometry3d::Identity();
-  Eigen::Matrix<double, 6, 1> lower_, upper_;
+  Eigen::Isometry3d tool_ = Eigen::Isometry3d::Identity();
+  Eigen::Isometry3d tool_inv_ = Eigen::Isometry3d::Identity();
+  Vector6 sign_ = Vector6::Ones(), offset_ = Vector6::Zero();
+  // Joint limits in DH angles (theta) [rad].
+  Vector6 lower_, upper_;
   double deviation_ = 0.0;
 };
 

@@ -11,6 +11,7 @@
 #include <kdl/chain.hpp>
 #include <kdl/tree.hpp>
 
+#include "kiloloop/model/chain_folding.hpp"
 #include "kiloloop/status.hpp"
 
 namespace kiloloop {
@@ -26,8 +27,16 @@ struct JointLimit {
 class RobotModel {
  public:
   // Builds the model from a KDL tree. `root`/`tip` select a serial chain (root defaults to the
-  // tree's base link, tip to the only leaf when the tree does not branch). Limits are looked up
+  // tree's base link, tip to the only leaf when the tree does not branch); `root` must be an
+  // ancestor of `tip`. Every subtree hanging off the chain (beyond the tip, or branching from a
+  // chain link) is folded into the chain as rigid mass, its movable joints at `locked` (joint
+  // name -> position [rad] or [m], absent: 0); see model/chain_folding.hpp. Limits are looked up
   // by joint name. Fails with a reason naming the link or joint at fault.
+  static Status create(const KDL::Tree& tree, const std::string& root, const std::string& tip,
+                       const std::map<std::string, JointLimit>& limits,
+                       const std::map<std::string, double>& locked, RobotModel* out,
+                       std::string* why);
+  // As above with every off-chain joint at 0.
   static Status create(const KDL::Tree& tree, const std::string& root, const std::string& tip,
                        const std::map<std::string, JointLimit>& limits, RobotModel* out,
                        std::string* why);
@@ -35,7 +44,12 @@ class RobotModel {
   int nq() const { return static_cast<int>(joint_names_.size()); }
   bool has_chain() const { return has_chain_; }
   const KDL::Tree& tree() const { return tree_; }
-  const KDL::Chain& chain() const { return chain_; }  // empty unless has_chain()
+  // The serial chain root -> tip with the off-chain mass folded in; empty unless has_chain().
+  const KDL::Chain& chain() const { return chain_; }
+  // The links folded into the chain (empty without a chain), in tree order per chain segment.
+  const std::vector<FoldedLink>& folded() const { return folded_; }
+  // The off-chain joint positions the folding used (as given to create).
+  const std::map<std::string, double>& locked() const { return locked_; }
   const std::string& root_name() const { return root_; }
   const std::string& tip_name() const { return tip_; }
   const std::vector<std::string>& joint_names() const { return joint_names_; }
@@ -43,7 +57,8 @@ class RobotModel {
   const Eigen::VectorXd& upper() const { return upper_; }      // (nq)
   const Eigen::VectorXd& velocity_limit() const { return velocity_; }  // (nq)
   const Eigen::VectorXd& effort_limit() const { return effort_; }      // (nq)
-  // Total mass of every segment in the tree [kg], root-link inertia included when restored.
+  // Total mass of every segment in the tree [kg], root-link inertia included when restored
+  // (the tree is kept as loaded; only the chain carries folded mass).
   double total_mass() const;
   // True when the URDF root link carried an inertia that kdl_parser would have dropped and the
   // loader restored it as a fixed segment (see kiloloop/urdf/urdf_loader.hpp).
@@ -57,6 +72,8 @@ class RobotModel {
   bool root_inertia_restored_ = false;
   std::string root_, tip_;
   std::vector<std::string> joint_names_;
+  std::vector<FoldedLink> folded_;
+  std::map<std::string, double> locked_;
   Eigen::VectorXd lower_, upper_, velocity_, effort_;
 };
 
