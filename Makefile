@@ -1,6 +1,7 @@
 # The README's two commands: `make demo` and `make test`. Both set up everything they need:
 # Debian packages (scripts/setup_system.sh), a virtual environment in .venv, and the package
 # built by scikit-build-core into build/py (incremental; the C++ tests are built there too).
+# mujoco is installed before the build: the native SIL loop compiles against its wheel's headers.
 SHELL := /bin/bash
 PYTHON ?= python3
 VENV := .venv
@@ -45,7 +46,7 @@ $(BIN)/python:
 build: system-deps $(BIN)/python
 	@echo "==> kiloloop: Python build tools into $(VENV)"
 	@$(BIN)/python -m pip install -q --upgrade pip
-	@$(BIN)/python -m pip install -q "scikit-build-core>=0.10" "pybind11>=2.12" cmake ninja
+	@$(BIN)/python -m pip install -q "scikit-build-core>=0.10" "pybind11>=2.12" cmake ninja "mujoco>=3.2"
 	@echo "==> kiloloop: building the C++ core, the Python module and the C++ tests into $(BUILD_DIR)"
 	@echo "    (incremental; the first build takes about 5 minutes on 2 cores), then installing"
 	@echo "    the Python dependencies (mujoco, numpy, pinocchio and example-robot-data for tests...)"

@@ -53,5 +53,6 @@ void bind_planning(py::module_& m);
 void bind_force(py::module_& m);
 void bind_safety(py::module_& m);
 void bind_aerial(py::module_& m);
+void bind_native(py::module_& m);
 
 }  // namespace kiloloop::py_glue

@@ -19,4 +19,5 @@ PYBIND11_MODULE(_core, m) {
   bind_force(m);
   bind_safety(m);
   bind_aerial(m);
+  bind_native(m);
 }

@@ -29,3 +29,12 @@ def model_files(robot) -> tuple[_Path, dict]:
     take them. `robot`: a name in models/, a robot file or directory, or a loaded `Robot`."""
     r = robot if isinstance(robot, Robot) else Robot.load(robot)
     return r.urdf, r.sim
+
+
+def __getattr__(name: str):
+    # kl.sil (batch runs, the native loop) on first use: `import kiloloop` stays light.
+    if name == "sil":
+        import importlib
+
+        return importlib.import_module(".sil", __name__)
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

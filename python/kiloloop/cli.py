@@ -69,7 +69,8 @@ def cmd_sweep(args) -> int:
         if not grid:
             raise ValueError("give at least one --grid KEY=V1,V2,...")
         results = sweep.run_sweep(args.scenario, grid, workers=args.workers, seed=args.seed,
-                                  duration=args.duration, robot=args.robot, sets=args.set)
+                                  duration=args.duration, robot=args.robot, sets=args.set,
+                                  backend=args.backend)
     except (KeyError, ValueError) as e:
         print(f"kiloloop sweep: {e.args[0]}", file=sys.stderr)
         return 2
@@ -127,7 +128,7 @@ def main(argv=None) -> int:
     sweep.add_argument("--grid", action="append", default=[], metavar="KEY=V1,V2,...",
                        help="values of one setting (repeatable: every combination runs)")
     sweep.add_argument("--workers", type=int, default=None,
-                       help="parallel processes (default: the number of cores)")
+                       help="parallel threads or processes (default: the number of cores)")
     sweep.add_argument("--metric", default=None, help="metric of the heat map (default: the first)")
     sweep.add_argument("--out", default=None, metavar="PREFIX",
                        help="writes PREFIX.csv and PREFIX.png (default: sweep-SCENARIO)")
@@ -136,6 +137,9 @@ def main(argv=None) -> int:
     sweep.add_argument("--robot", default=None, metavar="NAME|FILE")
     sweep.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",
                        help="fixed overrides for every run (as in `kiloloop run`)")
+    sweep.add_argument("--backend", choices=("local", "ray"), default="local",
+                       help="local: threads for native scenarios, processes otherwise; "
+                            "ray: a Ray cluster (RAY_ADDRESS) or a local Ray instance")
     sweep.set_defaults(func=cmd_sweep)
     bench = sub.add_parser("bench", help="timing and allocation benchmarks")
     bench.add_argument("--quick", action="store_true", help="fewer calls, for a smoke test")

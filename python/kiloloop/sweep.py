@@ -1,6 +1,13 @@
-"""`kiloloop sweep`: a scenario over a grid of settings, one process per run, in parallel.
+"""`kiloloop sweep`: a scenario over a grid of settings, in parallel.
 
     kiloloop sweep aerial-hover --grid att_kp=200,400,800 --grid gyro_sigma=0.01,0.05 --workers 2
+    kiloloop sweep arm-track --grid damping=0,0.5,1 --backend ray
+
+Backends: `local` (default) runs a native-capable scenario (its loop in C++, sil/native.py) on a
+pool of threads (sil/batch.py: the loops overlap with the GIL released) and any other scenario on
+a pool of processes; `ray` sends every run to a Ray cluster as one task (RAY_ADDRESS, or a local
+Ray instance started for the sweep; `pip install 'kiloloop[ray]'`). Every backend calls the same
+`run_one`, so the same seeds give the same rows.
 
 Every combination of the --grid values runs through the scenario's own `run` (the same criteria
 as `kiloloop run`); each run reports pass/fail, its metrics and, when it diverged (attitude beyond
@@ -85,12 +92,19 @@ def _progress(done: int, total: int, failed: int, stream) -> None:
     stream.flush()
 
 
+BACKENDS = ("local", "ray")
+
+
 def run_sweep(scenario: str, grid: dict[str, list[str]], workers: int | None = None,
-              seed: int = 0, duration: float | None = None, stream=sys.stderr, robot=None,
-              sets=None) -> list[dict]:
-    """All combinations, `workers` processes (default: the machine's cores); results in grid
-    order. A worker that dies takes only its own run with it. Grid keys are scenario settings or
-    dotted robot-file keys (controller.kp); robot and sets as in `kiloloop run`."""
+              seed: int = 0, duration: float | None = None, stream=None, robot=None,
+              sets=None, backend: str = "local") -> list[dict]:
+    """All combinations on `workers` threads or processes (default: the machine's cores), or on
+    Ray; results in grid order. A worker that dies takes only its own run with it. Grid keys are
+    scenario settings or dotted robot-file keys (controller.kp); robot and sets as in
+    `kiloloop run`."""
+    if backend not in BACKENDS:
+        raise ValueError(f"--backend {backend!r}: expected one of {', '.join(BACKENDS)}")
+    stream = sys.stderr if stream is None else stream  # looked up now: tests swap sys.stderr
     from . import scenarios
 
     module = scenarios.get(scenario)  # unknown scenario: KeyError before any process starts
@@ -101,6 +115,22 @@ def run_sweep(scenario: str, grid: dict[str, list[str]], workers: int | None = N
         scenarios.prepare(module, robot, overrides)
     combos = combinations(grid)
     workers = max(1, int(workers or os.cpu_count() or 1))
+    if backend == "ray":
+        return _run_ray(scenario, combos, workers, seed, duration, robot, sets, stream)
+    from .sil import batch
+
+    if batch.native_capable(scenario, sets, grid):
+        counter = {"done": 0, "failed": 0}
+        _progress(0, len(combos), 0, stream)
+
+        def on_done(_i, result):
+            counter["done"] += 1
+            counter["failed"] += not result["passed"]
+            _progress(counter["done"], len(combos), counter["failed"], stream)
+
+        runs = [{"params": p, "seed": seed, "duration": duration, "robot": robot, "sets": sets}
+                for p in combos]
+        return batch.run_scenarios(scenario, runs, threads=workers, on_done=on_done)
     results: list[dict | None] = [None] * len(combos)
     failed = 0
     _progress(0, len(combos), 0, stream)
@@ -116,6 +146,47 @@ def run_sweep(scenario: str, grid: dict[str, list[str]], workers: int | None = N
             failed += not results[i]["passed"]
             _progress(done, len(combos), failed, stream)
     return results  # type: ignore[return-value]
+
+
+def _run_ray(scenario, combos, workers, seed, duration, robot, sets, stream) -> list[dict]:
+    """Every run as one Ray task (run_one, 1 CPU, no retries: a run is deterministic, so a retry
+    would fail the same way). Uses the Ray instance already initialized, else RAY_ADDRESS, else a
+    local one with `workers` CPUs, shut down afterwards. A task whose worker dies becomes a
+    failed row with the reason."""
+    try:
+        import ray
+    except ImportError:
+        raise ValueError("--backend ray needs Ray: pip install 'kiloloop[ray]'") from None
+    started = False
+    if not ray.is_initialized():
+        address = os.environ.get("RAY_ADDRESS")
+        ray.init(address=address, num_cpus=None if address else workers,
+                 include_dashboard=False, log_to_driver=False)
+        started = True
+    try:
+        task = ray.remote(num_cpus=1, max_retries=0)(run_one)
+        refs = {task.remote(scenario, p, seed, duration, robot, sets): i
+                for i, p in enumerate(combos)}
+        results: list[dict | None] = [None] * len(combos)
+        failed = 0
+        _progress(0, len(combos), 0, stream)
+        pending = list(refs)
+        while pending:
+            done, pending = ray.wait(pending, num_returns=1)
+            for ref in done:
+                i = refs[ref]
+                try:
+                    results[i] = ray.get(ref)
+                except Exception as e:  # noqa: BLE001 - the worker died or Ray lost the task
+                    results[i] = {"params": combos[i], "passed": False, "metrics": {},
+                                  "reason": f"worker died: {type(e).__name__}: {e}",
+                                  "wall_s": float("nan")}
+                failed += not results[i]["passed"]
+                _progress(len(combos) - len(pending), len(combos), failed, stream)
+        return results  # type: ignore[return-value]
+    finally:
+        if started:
+            ray.shutdown()
 
 
 def write_csv(results: list[dict], path) -> Path:

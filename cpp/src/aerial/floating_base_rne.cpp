@@ -17,6 +17,7 @@ Status FloatingBaseRne::configure(RobotModelPtr model, FloatingBaseRne* out, std
   }
   FloatingBaseRne r;
   r.model_ = model;
+  r.chain_ = std::make_shared<const KDL::Chain>(model->chain());
   r.nq_ = model->nq();
   const unsigned ns = model->chain().getNrOfSegments();
   r.X_.assign(ns, KDL::Frame::Identity());
@@ -40,7 +41,7 @@ Status FloatingBaseRne::compute(const VecRef& q, const VecRef& qd, const VecRef&
       !base.omega.allFinite() || !base.specific_force.allFinite() || !base.alpha.allFinite())
     return Status::kNonFiniteMeasurement;
 
-  const KDL::Chain& chain = model_->chain();
+  const KDL::Chain& chain = *chain_;
   const unsigned ns = chain.getNrOfSegments();
   // The body's twist and spatial acceleration in its own frame (see the header): the specific
   // force already carries -g, so gravity needs no separate term (KDL's RNE puts it in a0 too).
@@ -99,7 +100,7 @@ Status FloatingBaseRne::first_moment(const VecRef& q, Eigen::Vector3d* moment,
   if (!model_) return Status::kNotConfigured;
   if (q.size() != nq_) return Status::kBadSize;
   if (!q.allFinite()) return Status::kNonFiniteMeasurement;
-  const KDL::Chain& chain = model_->chain();
+  const KDL::Chain& chain = *chain_;
   KDL::Frame T = KDL::Frame::Identity();
   int j = 0;
   for (unsigned i = 0; i < chain.getNrOfSegments(); ++i) {

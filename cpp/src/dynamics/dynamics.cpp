@@ -18,7 +18,8 @@ Status Dynamics::configure(RobotModelPtr model, const Eigen::Vector3d& gravity, 
   d.model_ = std::move(model);
   d.nq_ = d.model_->nq();
   d.gravity_ = gravity;
-  const KDL::Chain& chain = d.model_->chain();
+  d.chain_ = std::make_unique<KDL::Chain>(d.model_->chain());
+  const KDL::Chain& chain = *d.chain_;
   const KDL::Vector g(gravity.x(), gravity.y(), gravity.z());
   d.fk_ = std::make_unique<KDL::ChainFkSolverPos_recursive>(chain);
   d.jac_ = std::make_unique<KDL::ChainJntToJacSolver>(chain);

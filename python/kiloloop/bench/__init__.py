@@ -194,10 +194,12 @@ def run_benchmarks(quick: bool = False, as_json: bool = False, robot=None) -> in
     from .arm_bench import print_arm_bench, run_arm_bench
     from .calibration_bench import print_calibration_bench, run_calibration_bench
     from .ik_bench import print_ik_bench, run_ik_bench
+    from .native_bench import print_native_bench, run_native_bench
     from .qp_bench import print_qp_bench, run_qp_bench
 
     core = core_benchmark(quick)
     sil = sil_benchmark(quick)
+    sil_native = run_native_bench(quick)
     quadruped = quadruped_sil_benchmark(quick)
     qp = run_qp_bench(quick)
     limits = None if quick else quadruped_limits()
@@ -207,7 +209,7 @@ def run_benchmarks(quick: bool = False, as_json: bool = False, robot=None) -> in
     calibration = run_calibration_bench()
     report = {"python": sys.version.split()[0], "platform": platform.platform(),
               "mujoco": mujoco.__version__, "kiloloop": kl.__version__, "core": core, "sil": sil,
-              "quadruped_sil": quadruped, "qp": qp, "quadruped_limits": limits, "ik": ik,
+              "sil_native": sil_native, "quadruped_sil": quadruped, "qp": qp, "quadruped_limits": limits, "ik": ik,
               "calibration": calibration, "arm": arm, "aerial": aerial}
     if as_json:
         # numpy scalars (from the peers' results) print as plain numbers
@@ -216,6 +218,8 @@ def run_benchmarks(quick: bool = False, as_json: bool = False, robot=None) -> in
         _print_core(core)
         print()
         _print_sil(sil)
+        print()
+        print_native_bench(sil_native)
         print()
         print_rig_sil(quadruped)
         print()
@@ -266,9 +270,14 @@ def _robot_benchmark(robot, quick: bool, as_json: bool) -> int:
         print(f"kiloloop bench --robot: only arm robot files so far ({r.name} is {r.kind})",
               file=sys.stderr)
         return 2
+    from .native_bench import print_native_bench, run_native_bench
+
     sil = sil_benchmark(quick, r)
+    sil_native = run_native_bench(quick, r)
     if as_json:
-        print(json.dumps({"robot": r.name, "sil": sil}))
+        print(json.dumps({"robot": r.name, "sil": sil, "sil_native": sil_native}))
     else:
         _print_sil(sil)
+        print()
+        print_native_bench(sil_native)
     return 0

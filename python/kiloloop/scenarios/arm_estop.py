@@ -8,6 +8,8 @@ max |qd| / a, distance qd^2 / (2 a) per joint), then the supervisor holds the fi
 Stop time, distance and hold drift are measured on MuJoCo's ground truth. Any arm: from the work
 pose to a goal 90 % of each joint's free range away (at most 0.9 rad, clear of the floor); the
 e-stop comes half-way through the motion (at cruise speed), unless the robot file says otherwise.
+The loop runs in C++ (sil/native.py; the e-stop is a scheduled event); `--set native=false` runs
+it per tick in Python, same log.
 """
 from __future__ import annotations
 
@@ -17,7 +19,7 @@ import kiloloop as kl
 
 from ..sil.arm_adapters import SupervisedTick
 from ..sil.arm_rig import ArmRig, controller, joint_targets, work_pose
-from ..sil.log import SignalLog
+from ..sil.native import Observe
 from . import ScenarioResult, evaluate
 
 NAME = "arm-estop"
@@ -31,6 +33,7 @@ DEFAULTS = {
     "t_estop": -1.0,            # [s] e-stop pressed; < 0: half-way through the motion
     "stop_deceleration": 5.0,   # [rad/s^2] supervisor's a_stop
     "stopped_speed": 0.01,      # [rad/s] "stopped" when every |qd| is below this
+    "native": True,             # the C++ loop (sil/native.py); false: per tick in Python
 }
 CRITERIA = {
     "stop_time_over_plan_s": ("<", 0.05),       # stopped no later than planned + 50 ms
@@ -69,11 +72,8 @@ def run(settings: dict, seed: int = 0, duration: float | None = None,
     tick = SupervisedTick(controller(robot, model, "computed_torque", q_start), supervisor,
                           trajectory, t_estop)
 
-    def observe(p, log: SignalLog) -> None:
-        log.record("q_true", p.q())
-        log.record("qd_true", p.qd())
-
-    log = rig.run(tick, DURATION if duration is None else duration, observe=observe)
+    log = rig.run(tick, DURATION if duration is None else duration,
+                  observe=Observe("q_true", "qd_true"), native=settings["native"])
     t, q, qd, mode = log["t"], log["q_true"], log["qd_true"], log["mode"]
     a = float(settings["stop_deceleration"])
     k0 = int(np.searchsorted(t, t_estop))

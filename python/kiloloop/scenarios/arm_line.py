@@ -7,6 +7,7 @@ computed torque. The plant is MuJoCo built from the same robot file. The end-eff
 measured on MuJoCo's `ee_site`, against the line itself. Any arm: the line starts at the robot's
 work pose; unless given, its length is 20 % of the reach and its rotation 0.5 rad, along the first
 of a fixed list of directions whose line the IK can follow within the limits (sil/arm_rig.py).
+The loop runs in C++ (sil/native.py); `--set native=false` runs it per tick in Python, same log.
 """
 from __future__ import annotations
 
@@ -16,7 +17,7 @@ import kiloloop as kl
 
 from ..sil.arm_adapters import CartesianTick
 from ..sil.arm_rig import ArmRig, joint_config, line_target, work_pose
-from ..sil.log import SignalLog
+from ..sil.native import Observe
 from . import ScenarioResult, evaluate
 
 NAME = "arm-line"
@@ -32,6 +33,7 @@ DEFAULTS = {
     "task_gain": 50.0,                    # [1/s] CLIK gain on the differential-IK reference
     "physics_dt": 0.001,                  # [s] MuJoCo timestep
     "delay_ticks": 0,                     # measurement delay [ticks]
+    "native": True,                       # the C++ loop (sil/native.py); false: per tick in Python
 }
 CRITERIA = {
     "max_ee_error_m": ("<", 1e-3),
@@ -84,13 +86,9 @@ def run(settings: dict, seed: int = 0, duration: float | None = None,
     config.joint = joint_config(robot, model, q0, settings["delay_ticks"])
     tick = CartesianTick(kl.CartesianTrackingController(model, config), line)
 
-    def observe(p, log: SignalLog) -> None:
-        pos, rot = p.ee_pose()
-        log.record("ee", pos)
-        log.record("ee_rot", rot)
-
     log = rig.run(tick, DURATION if duration is None else duration,
-                  delay_ticks=settings["delay_ticks"], observe=observe)
+                  delay_ticks=settings["delay_ticks"], observe=Observe("ee", "ee_rot"),
+                  native=settings["native"])
 
     # The line lives in the chain's root frame; MuJoCo's site in the world frame.
     T = rig.T_world_root()

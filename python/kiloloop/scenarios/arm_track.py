@@ -5,6 +5,7 @@ the same trajectory for comparison (the same bandwidth on the diagonal of M at t
 the only difference is what computed torque adds). Any arm robot file: the start pose is the
 robot's work pose and the waypoints move each joint by half of its free range (at most 0.5 rad),
 clear of the floor (sil/arm_rig.py); a robot file's [scenario.arm-track] may give them.
+The loop runs in C++ (sil/native.py); `--set native=false` runs it per tick in Python, same log.
 """
 from __future__ import annotations
 
@@ -14,7 +15,7 @@ import kiloloop as kl
 
 from ..sil.arm_adapters import JointTrackingTick
 from ..sil.arm_rig import ArmRig, controller, joint_targets, work_pose
-from ..sil.log import SignalLog
+from ..sil.native import Observe
 from . import ScenarioResult, evaluate
 
 NAME = "arm-track"
@@ -36,6 +37,7 @@ DEFAULTS = {
     "waypoint_2": [],
     "t_1": 1.5,           # [s] at waypoint 1
     "t_2": 3.5,           # [s] at waypoint 2
+    "native": True,       # the C++ loop (sil/native.py); false: the per-tick Python loop
 }
 WAYPOINT_FRACTION = 0.5  # of each joint's free range (capped at 1 rad) per waypoint
 CRITERIA = {
@@ -75,12 +77,10 @@ def run(settings: dict, seed: int = 0, duration: float | None = None,
     tick = JointTrackingTick(controller(robot, model, law, points[0],
                                         delay_ticks=settings["delay_ticks"]), trajectory)
 
-    def observe(p, log: SignalLog) -> None:
-        log.record("q_true", p.q())  # ground truth: the controller may see a delayed q
-        log.record("ee", p.ee_pose()[0])
-
+    # Ground truth: the controller may see a delayed q.
     log = rig.run(tick, DURATION if duration is None else duration,
-                  delay_ticks=settings["delay_ticks"], observe=observe)
+                  delay_ticks=settings["delay_ticks"], observe=Observe("q_true", "ee"),
+                  native=settings["native"])
 
     # Desired end-effector positions from the same compiled kinematics, in the world frame.
     dyn, T = kl.Dynamics(model), rig.T_world_root()

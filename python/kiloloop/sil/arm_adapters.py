@@ -2,12 +2,16 @@
 onto one compiled controller's Input and its Output back onto the motors. Glue only: no control
 logic, no robot constants. Shared by the arm scenarios (one SIL shape: plant / rig / adapter /
 scenario).
+
+A tick with `native_adapter()` also runs in the native loop (sil/native.py): its C++ twin
+(cpp/sil/arm_adapters.cpp) makes the same calls on the same controller and reference objects and
+logs the same signals; `native_events()` gives what the tick decides from time (the e-stop).
 """
 from __future__ import annotations
 
 import numpy as np
 
-from . import arm_scene
+from . import arm_scene, native
 from .log import SignalLog
 from .loop import Measurement
 
@@ -32,6 +36,12 @@ class JointTrackingTick:
         log.record("status", int(status))
         return self.output.tau.copy()
 
+    def native_adapter(self):
+        return native.joint_tracking_adapter(self.controller, self.trajectory)
+
+    def native_events(self) -> list:
+        return []
+
 
 class CartesianTick:
     """Maps a measurement and the line sample onto the compiled controller (glue only)."""
@@ -53,6 +63,12 @@ class CartesianTick:
         log.record("ik_error", self.output.task_error)
         log.record("status", int(status))
         return self.output.tau.copy()
+
+    def native_adapter(self):
+        return native.cartesian_adapter(self.controller, self.line)
+
+    def native_events(self) -> list:
+        return []
 
 
 class SupervisedTick:
@@ -82,6 +98,12 @@ class SupervisedTick:
         log.record("status", int(status))
         log.record("manipulability", self.sout.singularity.manipulability)
         return self.sout.tau.copy()
+
+    def native_adapter(self):
+        return native.supervised_adapter(self.c, self.s, self.traj)
+
+    def native_events(self) -> list:
+        return [native.estop(self.t_estop)]
 
 
 def _quintic(s):

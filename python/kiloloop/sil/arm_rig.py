@@ -14,6 +14,7 @@ import numpy as np
 import kiloloop as kl
 
 from ..robot import arm as arm_defaults
+from . import native as native_loop
 from .log import SignalLog
 from .loop import LoopSettings, run_loop
 from .plant import MujocoPlant
@@ -173,21 +174,46 @@ class ArmRig:
         T[:3, :3], T[:3, 3] = d.xmat[b].reshape(3, 3), d.xpos[b]
         return T
 
+    def runs_natively(self, tick, observe=None, native: bool | None = True) -> bool:
+        """Whether run() takes the native loop: asked for (native not False), built in
+        (native.available()), a tick with a C++ twin, ground truth given as an Observe (or none)
+        and no video (frames are captured per tick in Python)."""
+        return (native is not False and native_loop.available()
+                and hasattr(tick, "native_adapter") and self.video_path is None
+                and (observe is None or isinstance(observe, native_loop.Observe)))
+
     def run(self, tick, duration: float, *, delay_ticks: int = 0, observe=None,
-            log: SignalLog | None = None) -> SignalLog:
+            log: SignalLog | None = None, native: bool | None = True,
+            nonideal: native_loop.NonIdeal | None = None) -> SignalLog:
+        """The closed loop for `duration` [s]: natively when runs_natively(), else per tick in
+        Python; both give the same log (tests/test_native_arm.py). nonideal: joint sensor and
+        motor models (sil/native.py), the same C++ code in either loop."""
+        if self.runs_natively(tick, observe, native):
+            return native_loop.run(self.plant, tick.native_adapter(), duration, log,
+                                   delay_ticks=delay_ticks, nonideal=nonideal,
+                                   events=tick.native_events(), observe=observe)
+        plant, step = self.plant, tick
+        if nonideal is not None:
+            # The same C++ sensor/motor models and streams as the native loop, called per tick.
+            plant = native_loop.noisy_plant(self.plant, nonideal)
+            motor = nonideal.motor(self.plant.nq)
+
+            def step(m, lg):
+                return motor.push(tick(m, lg))
         recorder = maybe_recorder(self.video_path, self.plant.model,
                                   body=self.plant.model.body(self.model.root_name).id
                                   if self.model.root_name else 1)
 
-        def watch(p, lg):
+        def watch(_p, lg):
+            # Ground truth from the plant itself, never through the sensor model.
             if observe is not None:
-                observe(p, lg)
+                observe(self.plant, lg)
             if recorder is not None:
-                recorder.capture(p.data)
+                recorder.capture(self.plant.data)
 
         try:
-            return run_loop(self.plant, tick, LoopSettings(duration=duration,
-                                                           delay_ticks=delay_ticks),
+            return run_loop(plant, step, LoopSettings(duration=duration,
+                                                      delay_ticks=delay_ticks),
                             log=log, observe=watch)
         finally:
             if recorder is not None:

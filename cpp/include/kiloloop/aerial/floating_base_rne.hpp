@@ -58,6 +58,9 @@ class FloatingBaseRne {
 
  private:
   RobotModelPtr model_;
+  // This workspace's own copy of the chain: KDL::Joint caches its last pose in mutable members,
+  // so two workspaces stepping one model's chain from two threads would race.
+  std::shared_ptr<const KDL::Chain> chain_;
   int nq_ = 0;
   // Per segment, sized at configure: pose in the parent, joint unit twist, velocity,
   // acceleration and net force (KDL's RNE arrays).

@@ -48,6 +48,10 @@ class Dynamics {
   Status load(const VecRef& q, const VecRef& qd) noexcept;
 
   RobotModelPtr model_;
+  // This workspace's own copy of the chain, which the KDL solvers reference (a stable heap
+  // address across moves): KDL::Joint caches its last pose in mutable members, so workspaces
+  // sharing one model's chain across threads would race (found by the native batch runner).
+  std::unique_ptr<KDL::Chain> chain_;
   int nq_ = 0;
   Eigen::Vector3d gravity_ = Eigen::Vector3d(0.0, 0.0, -9.81);
   std::unique_ptr<KDL::ChainFkSolverPos_recursive> fk_;

@@ -1,0 +1,271 @@
+// kiloloop._core.native: the native SIL loop (cpp/sil/) over the mjModel/mjData of Python
+// `mujoco.MjModel`/`MjData` objects (their `_address`). Thin: argument checks, keeping the Python
+// objects alive while C++ borrows them, releasing the GIL around the loop.
+#include "common.hpp"
+
+#ifdef KILOLOOP_NATIVE_SIL
+#include <dlfcn.h>
+
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <type_traits>
+#include <vector>
+
+#include "kiloloop/control/computed_torque.hpp"
+#include "kiloloop/control/joint_pd_gravity.hpp"
+#include "sil/arm_adapters.hpp"
+#include "sil/batch.hpp"
+#include "sil/mujoco_api.hpp"
+#include "sil/native_loop.hpp"
+#endif
+
+namespace kiloloop::py_glue {
+
+#ifdef KILOLOOP_NATIVE_SIL
+namespace {
+
+using namespace kiloloop::sil;
+
+// An adapter plus the Python objects (controllers, trajectories) it borrows.
+struct PyAdapter {
+  std::shared_ptr<Adapter> adapter;
+  std::vector<py::object> keep;
+};
+
+// A rollout plus the Python objects (MjModel, MjData, adapter) it borrows.
+struct PyRollout {
+  Rollout rollout;
+  py::object model, data, adapter;
+};
+
+template <class T>
+T* address_of(const py::object& obj, const char* name) {
+  if (!py::hasattr(obj, "_address"))
+    throw py::value_error(std::string(name) + ": expected a mujoco." +
+                          (std::is_same_v<T, mjModel> ? "MjModel" : "MjData"));
+  return reinterpret_cast<T*>(obj.attr("_address").cast<std::uintptr_t>());
+}
+
+JointTorqueController* joint_controller(const py::object& c) {
+  if (py::isinstance<ComputedTorqueController>(c)) return &c.cast<ComputedTorqueController&>();
+  if (py::isinstance<JointPdGravityController>(c)) return &c.cast<JointPdGravityController&>();
+  throw py::value_error("controller: expected a ComputedTorqueController or JointPdGravityController");
+}
+
+JointReference joint_reference(const py::object& r, int nq) {
+  JointReference ref;
+  if (py::isinstance<QuinticTrajectory>(r)) {
+    ref = &r.cast<const QuinticTrajectory&>();
+  } else if (py::isinstance<TrapezoidTrajectory>(r)) {
+    ref = &r.cast<const TrapezoidTrajectory&>();
+  } else {
+    throw py::value_error("trajectory: expected a QuinticTrajectory or TrapezoidTrajectory");
+  }
+  const int n = std::visit([](auto* t) { return t->nq(); }, ref);
+  if (n != nq) throw py::value_error("trajectory: has " + std::to_string(n) + " joints, the controller " + std::to_string(nq));
+  return ref;
+}
+
+// Path of the shared object that defines the resolved mj_step (empty before load_mujoco).
+std::string library_path() {
+  Dl_info info{};
+  const auto step = mujoco_api().step;
+  if (step && dladdr(reinterpret_cast<void*>(step), &info) && info.dli_fname) return info.dli_fname;
+  return "";
+}
+
+}  // namespace
+#endif
+
+void bind_native(py::module_& parent) {
+  py::module_ m = parent.def_submodule("native", "native SIL loop (C++ closed loop on a MuJoCo plant)");
+#ifndef KILOLOOP_NATIVE_SIL
+  m.attr("available") = false;
+#else
+  m.attr("available") = true;
+  m.attr("header_version") = mjVERSION_HEADER;
+  m.def("load_mujoco",
+        [](const std::string& path) {
+          std::string why;
+          if (!load_mujoco_api(path, &why)) throw py::value_error(why);
+          return std::string(mujoco_api().version_string());
+        },
+        py::arg("path"), "resolves MuJoCo's functions from the already-loaded libmujoco at path");
+  m.def("mujoco_loaded", &mujoco_api_loaded);
+  m.def("mujoco_library", &library_path, "path of the libmujoco the native loop calls");
+
+  py::class_<PyAdapter>(m, "Adapter", "a native adapter: measurement -> compiled controller -> command")
+      .def_property_readonly("measurement_size", [](const PyAdapter& a) { return a.adapter->measurement_size(); })
+      .def_property_readonly("command_size", [](const PyAdapter& a) { return a.adapter->command_size(); });
+
+  m.def("joint_tracking_adapter",
+        [](py::object controller, py::object trajectory) {
+          JointTorqueController* c = joint_controller(controller);
+          return PyAdapter{std::make_shared<JointTrackingAdapter>(c, joint_reference(trajectory, c->nq())),
+                           {controller, trajectory}};
+        },
+        py::arg("controller"), py::arg("trajectory"),
+        "y = [q; qd] -> computed torque / PD + gravity on a joint trajectory (JointTrackingTick)");
+  m.def("cartesian_adapter",
+        [](py::object controller, py::object line) {
+          auto* c = &controller.cast<CartesianTrackingController&>();
+          auto* l = &line.cast<const CartesianLine&>();
+          return PyAdapter{std::make_shared<CartesianTrackingAdapter>(c, l), {controller, line}};
+        },
+        py::arg("controller"), py::arg("line"), "y = [q; qd] -> CartesianTrackingController on a CartesianLine");
+  m.def("supervised_adapter",
+        [](py::object controller, py::object supervisor, py::object trajectory) {
+          JointTorqueController* c = joint_controller(controller);
+          auto* s = &supervisor.cast<ArmSupervisor&>();
+          if (s->nq() != c->nq()) throw py::value_error("supervisor: joint count differs from the controller's");
+          return PyAdapter{std::make_shared<SupervisedAdapter>(c, s, joint_reference(trajectory, c->nq())),
+                           {controller, supervisor, trajectory}};
+        },
+        py::arg("controller"), py::arg("supervisor"), py::arg("trajectory"),
+        "y = [q; qd] -> joint controller -> ArmSupervisor (e-stop events) (SupervisedTick)");
+
+  py::class_<PyRollout>(m, "Rollout", "one native closed-loop run on a MuJoCo model/data")
+      .def(py::init([](py::object model, py::object data, py::object adapter, int ticks, double control_dt,
+                       std::vector<int> measurement, std::vector<int> actuators, int delay_ticks,
+                       std::vector<double> sigma, std::vector<double> quantum, unsigned long long seed,
+                       int motor_delay_ticks, double motor_time_constant, py::list events, py::list probes) {
+             auto* pa = &adapter.cast<PyAdapter&>();
+             RolloutConfig config;
+             config.ticks = ticks;
+             config.control_dt = control_dt;
+             config.measurement = std::move(measurement);
+             config.actuators = std::move(actuators);
+             config.delay_ticks = delay_ticks;
+             config.sensor.sigma = std::move(sigma);
+             config.sensor.quantum = std::move(quantum);
+             config.sensor.seed = seed;
+             config.motor.delay_ticks = motor_delay_ticks;
+             config.motor.time_constant = motor_time_constant;
+             for (auto item : events) {
+               auto e = item.cast<py::tuple>();
+               if (e.size() != 3) throw py::value_error("events: expected (time, kind, payload) tuples");
+               const int kind = e[1].cast<int>();
+               if (kind < 0 || kind > 2) throw py::value_error("events: kind must be 0 (estop), 1 (reference) or 2 (force)");
+               config.events.push_back(Event{e[0].cast<double>(), static_cast<EventKind>(kind),
+                                             e[2].cast<std::vector<double>>()});
+             }
+             for (auto item : probes) {
+               auto p = item.cast<py::tuple>();
+               if (p.size() != 3) throw py::value_error("probes: expected (name, source, index) tuples");
+               const int source = p[1].cast<int>();
+               if (source < 0 || source > 6) throw py::value_error("probes: source must be 0..6");
+               config.probes.push_back(Probe{p[0].cast<std::string>(), static_cast<Probe::Source>(source),
+                                             p[2].cast<std::vector<int>>()});
+             }
+             auto r = std::make_unique<PyRollout>();
+             std::string why;
+             if (!r->rollout.configure(address_of<mjModel>(model, "model"), address_of<mjData>(data, "data"),
+                                       pa->adapter, std::move(config), &why))
+               throw py::value_error(why);
+             r->model = model;
+             r->data = data;
+             r->adapter = adapter;
+             return r;
+           }),
+           py::arg("model"), py::arg("data"), py::arg("adapter"), py::kw_only(), py::arg("ticks"),
+           py::arg("control_dt") = 0.001, py::arg("measurement"), py::arg("actuators"),
+           py::arg("delay_ticks") = 0, py::arg("sigma") = std::vector<double>{},
+           py::arg("quantum") = std::vector<double>{}, py::arg("seed") = 0ULL,
+           py::arg("motor_delay_ticks") = 0, py::arg("motor_time_constant") = 0.0,
+           py::arg("events") = py::list(), py::arg("probes") = py::list())
+      .def("run",
+           [](PyRollout& r) {
+             py::gil_scoped_release no_gil;
+             r.rollout.run();
+           },
+           "runs the ticks from the data's current state (GIL released)")
+      .def_property_readonly("ok", [](const PyRollout& r) { return r.rollout.result().ok; })
+      .def_property_readonly("error", [](const PyRollout& r) { return r.rollout.result().error; })
+      .def_property_readonly("ticks_run", [](const PyRollout& r) { return r.rollout.result().ticks; })
+      .def_property_readonly("warnings", [](const PyRollout& r) { return r.rollout.result().warnings; })
+      .def("log",
+           [](const PyRollout& r) {
+             py::dict out;
+             const int ticks = r.rollout.result().ticks;  // rows actually written
+             for (const auto& c : r.rollout.log().channels()) {
+               std::vector<py::ssize_t> shape{ticks};
+               for (int s : c.shape) shape.push_back(s);
+               py::array_t<double> a(shape);
+               std::copy(c.data.begin(), c.data.begin() + static_cast<size_t>(ticks) * c.width, a.mutable_data());
+               out[py::str(c.name)] = a;
+             }
+             return out;
+           },
+           "{channel: (ticks_run, *shape) array}, copies");
+
+  m.def("run_batch",
+        [](py::list rollouts, int threads) {
+          std::vector<Rollout*> rs;
+          for (auto item : rollouts) rs.push_back(&item.cast<PyRollout&>().rollout);
+          py::gil_scoped_release no_gil;
+          run_batch(rs, threads);
+        },
+        py::arg("rollouts"), py::arg("threads"),
+        "runs every Rollout once on a pool of C++ threads (GIL released); each must own its data");
+  m.def("step_adapter",
+        [](PyAdapter& a, const Array& y, int n, double dt) {
+          vector_arg(y, a.adapter->measurement_size(), "y");
+          py::gil_scoped_release no_gil;
+          step_adapter(*a.adapter, y.data(), n, dt);
+        },
+        py::arg("adapter"), py::arg("y"), py::arg("n"), py::arg("dt") = 0.001,
+        "n adapter (controller) steps on a fixed measurement, no physics (bench reference)");
+  m.def("step_raw",
+        [](py::object model, py::object data, int n, std::optional<Array> ctrl, std::vector<int> actuators) {
+          auto* mm = address_of<mjModel>(model, "model");
+          auto* dd = address_of<mjData>(data, "data");
+          const int k = static_cast<int>(actuators.size());
+          if (ctrl) {
+            if (ctrl->ndim() != 2 || ctrl->shape(0) < n || ctrl->shape(1) != k)
+              throw py::value_error("ctrl: expected shape (>= n, len(actuators))");
+            for (int a : actuators)
+              if (a < 0 || a >= mm->nu) throw py::value_error("actuators: index out of range");
+          }
+          const double* c = ctrl ? ctrl->data() : nullptr;
+          py::gil_scoped_release no_gil;
+          step_raw(mm, dd, n, c, actuators.data(), k);
+        },
+        py::arg("model"), py::arg("data"), py::arg("n"), py::arg("ctrl") = py::none(),
+        py::arg("actuators") = std::vector<int>{},
+        "n x mj_step from C++ (bench reference); ctrl rows replayed onto ctrl[actuators]");
+
+  // The sensor and motor models alone, for the per-tick Python loop (same code, same stream).
+  py::class_<SensorModel>(m, "SensorModel", "noise + quantization over a flat signal vector")
+      .def(py::init([](std::vector<double> sigma, std::vector<double> quantum, unsigned long long seed, int n) {
+             SensorModel s;
+             std::string why;
+             if (!s.configure(SensorModelConfig{std::move(sigma), std::move(quantum), seed}, n, &why))
+               throw py::value_error(why);
+             return s;
+           }),
+           py::arg("sigma"), py::arg("quantum"), py::arg("seed"), py::arg("n"))
+      .def("apply", [](SensorModel& s, const Array& x) {
+        vector_arg(x, s.size(), "x");
+        Eigen::VectorXd y(x.size());
+        s.apply(x.data(), y.data());
+        return y;
+      });
+  py::class_<MotorModel>(m, "MotorModel", "command transport delay [ticks] + first-order lag")
+      .def(py::init([](int delay_ticks, double time_constant, double dt, int n) {
+             MotorModel s;
+             std::string why;
+             if (!s.configure(MotorModelConfig{delay_ticks, time_constant, dt}, n, &why)) throw py::value_error(why);
+             return s;
+           }),
+           py::arg("delay_ticks"), py::arg("time_constant"), py::arg("dt"), py::arg("n"))
+      .def("push", [](MotorModel& s, const Array& u) {
+        vector_arg(u, s.size(), "u");
+        Eigen::VectorXd y(u.size());
+        s.push(u.data(), y.data());
+        return y;
+      });
+#endif
+}
+
+}  // namespace kiloloop::py_glue

@@ -1,0 +1,31 @@
+#include "sil/batch.hpp"
+
+#include <algorithm>
+#include <atomic>
+#include <thread>
+
+namespace kiloloop::sil {
+
+void run_batch(const std::vector<Rollout*>& rollouts, int threads) noexcept {
+  const int n = static_cast<int>(rollouts.size());
+  std::atomic<int> next{0};
+  auto worker = [&]() {
+    for (int i = next.fetch_add(1); i < n; i = next.fetch_add(1)) rollouts[i]->run();
+  };
+  const int count = std::max(1, std::min(threads, n));
+  if (count == 1) {
+    worker();
+    return;
+  }
+  std::vector<std::thread> pool;
+  try {
+    pool.reserve(count - 1);
+    for (int i = 0; i < count - 1; ++i) pool.emplace_back(worker);
+  } catch (...) {
+    // No thread could be started (resource limits): the calling thread does the rest alone.
+  }
+  worker();
+  for (auto& t : pool) t.join();
+}
+
+}  // namespace kiloloop::sil

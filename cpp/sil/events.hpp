@@ -1,0 +1,22 @@
+#pragma once
+// Scheduled events of a native SIL run, given as data: at the first tick whose time t >= time,
+// the event fires (before that tick's controller step, as a scenario's per-tick Python check
+// `t >= t_event` would). Kinds:
+//   kEstop      payload {1 or 0}: the e-stop input pressed / released (adapters with a supervisor)
+//   kReference  payload: an offset added to the reference from then on (joint adapters: (nq) [rad];
+//               Cartesian: (3) [m] on the position), replacing any earlier offset
+//   kForce      payload {body id, fx, fy, fz, tx, ty, tz, duration [s]}: a wrench [N, N m] in the
+//               world frame on that body's centre of mass (MuJoCo xfrc_applied) for duration
+#include <vector>
+
+namespace kiloloop::sil {
+
+enum class EventKind : int { kEstop = 0, kReference = 1, kForce = 2 };
+
+struct Event {
+  double time = 0.0;  // [s]
+  EventKind kind = EventKind::kEstop;
+  std::vector<double> payload;
+};
+
+}  // namespace kiloloop::sil

@@ -1,0 +1,207 @@
+#include "sil/native_loop.hpp"
+
+#include "sil/mujoco_api.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <exception>
+
+namespace kiloloop::sil {
+
+namespace {
+int probe_width(const mjModel* m, const Probe& p, std::vector<int>* shape, std::string* why) {
+  using S = Probe::Source;
+  auto in_range = [&](int n) {
+    for (int i : p.index)
+      if (i < 0 || i >= n) return false;
+    return true;
+  };
+  switch (p.source) {
+    case S::kSensor: *shape = {static_cast<int>(p.index.size())}; if (in_range(m->nsensordata)) return shape->at(0); break;
+    case S::kQpos: *shape = {static_cast<int>(p.index.size())}; if (in_range(m->nq)) return shape->at(0); break;
+    case S::kQvel: *shape = {static_cast<int>(p.index.size())}; if (in_range(m->nv)) return shape->at(0); break;
+    case S::kSitePos: *shape = {3}; if (p.index.size() == 1 && in_range(m->nsite)) return 3; break;
+    case S::kSiteMat: *shape = {3, 3}; if (p.index.size() == 1 && in_range(m->nsite)) return 9; break;
+    case S::kBodyPos: *shape = {3}; if (p.index.size() == 1 && in_range(m->nbody)) return 3; break;
+    case S::kBodyQuat: *shape = {4}; if (p.index.size() == 1 && in_range(m->nbody)) return 4; break;
+  }
+  *why = "probe " + p.name + ": index out of range for this model";
+  return -1;
+}
+}  // namespace
+
+bool Rollout::configure(const mjModel* model, mjData* data, std::shared_ptr<Adapter> adapter,
+                        RolloutConfig config, std::string* why) {
+  if (!model || !data || !adapter) {
+    *why = "rollout: model, data and adapter are required";
+    return false;
+  }
+  if (!mujoco_api_loaded()) {
+    *why = "rollout: libmujoco not resolved (kiloloop.sil.native loads it on import)";
+    return false;
+  }
+  if (!(config.control_dt > 0.0) || config.ticks < 0) {
+    *why = "rollout: expected control_dt > 0 and ticks >= 0";
+    return false;
+  }
+  // Whole physics steps per control period, as LoopSettings.substeps in sil/loop.py.
+  const double ts = model->opt.timestep;
+  const long n = std::lround(config.control_dt / ts);
+  if (n < 1 || std::fabs(static_cast<double>(n) * ts - config.control_dt) > 1e-12) {
+    *why = "rollout: control_dt is not a multiple of the physics timestep";
+    return false;
+  }
+  if (static_cast<int>(config.measurement.size()) != adapter->measurement_size() ||
+      static_cast<int>(config.actuators.size()) != adapter->command_size()) {
+    *why = "rollout: measurement/actuator address counts do not match the adapter (" +
+           std::to_string(adapter->measurement_size()) + ", " + std::to_string(adapter->command_size()) + ")";
+    return false;
+  }
+  for (int a : config.measurement)
+    if (a < 0 || a >= model->nsensordata) { *why = "rollout: measurement address out of range"; return false; }
+  for (int a : config.actuators)
+    if (a < 0 || a >= model->nu) { *why = "rollout: actuator index out of range"; return false; }
+  const int ny = adapter->measurement_size(), nu = adapter->command_size();
+  if (!sensor_.configure(config.sensor, ny, why)) return false;
+  config.motor.dt = config.control_dt;
+  if (!motor_.configure(config.motor, nu, why)) return false;
+  delay_.configure(ny, config.delay_ticks);
+  force_bodies_.clear();
+  for (const auto& e : config.events) {
+    if (!std::isfinite(e.time)) { *why = "event: non-finite time"; return false; }
+    if (e.kind == EventKind::kForce) {
+      const int body = e.payload.size() == 8 ? static_cast<int>(e.payload[0]) : -1;
+      if (body < 1 || body >= model->nbody || !(e.payload[7] >= 0.0)) {
+        *why = "force event: expected {body id (1..nbody-1), fx, fy, fz, tx, ty, tz, duration >= 0}";
+        return false;
+      }
+      if (std::find(force_bodies_.begin(), force_bodies_.end(), body) == force_bodies_.end())
+        force_bodies_.push_back(body);
+    }
+  }
+  // Events in time order; ties keep their given order.
+  std::stable_sort(config.events.begin(), config.events.end(),
+                   [](const Event& a, const Event& b) { return a.time < b.time; });
+
+  log_ = LogBuffer();
+  ch_t_ = log_.declare("t", {});
+  ch_probe_.clear();
+  for (const auto& p : config.probes) {
+    std::vector<int> shape;
+    if (probe_width(model, p, &shape, why) < 0) return false;
+    ch_probe_.push_back(log_.declare(p.name, shape));
+  }
+  adapter->declare(log_);
+  log_.allocate(config.ticks);
+
+  m_ = model;
+  d_ = data;
+  adapter_ = std::move(adapter);
+  config_ = std::move(config);
+  substeps_ = static_cast<int>(n);
+  y_raw_.assign(ny, 0.0);
+  y_.assign(ny, 0.0);
+  u_.assign(nu, 0.0);
+  u_applied_.assign(nu, 0.0);
+  next_event_ = 0;
+  result_ = RolloutResult();
+  return true;
+}
+
+void Rollout::apply_forces(double t) noexcept {
+  for (int b : force_bodies_) std::fill(d_->xfrc_applied + 6 * b, d_->xfrc_applied + 6 * b + 6, 0.0);
+  for (size_t i = 0; i < next_event_; ++i) {
+    const Event& e = config_.events[i];
+    if (e.kind != EventKind::kForce || t >= e.time + e.payload[7]) continue;
+    double* f = d_->xfrc_applied + 6 * static_cast<int>(e.payload[0]);
+    for (int j = 0; j < 6; ++j) f[j] += e.payload[1 + j];
+  }
+}
+
+void Rollout::tick(int k) {
+  const double t = k * config_.control_dt;  // as sil/loop.py: no accumulated sum
+  const int ny = static_cast<int>(y_raw_.size()), nu = static_cast<int>(u_.size());
+  for (int i = 0; i < ny; ++i) y_raw_[i] = d_->sensordata[config_.measurement[i]];
+  sensor_.apply(y_raw_.data(), y_.data());
+  double stamp = t;
+  const double* y = nullptr;
+  delay_.push(t, y_.data(), &stamp, &y);
+
+  *log_.row(ch_t_, k) = t;
+  for (size_t p = 0; p < config_.probes.size(); ++p) {
+    const Probe& probe = config_.probes[p];
+    double* row = log_.row(ch_probe_[p], k);
+    const int i0 = probe.index.empty() ? 0 : probe.index[0];
+    using S = Probe::Source;
+    switch (probe.source) {
+      case S::kSensor: for (size_t j = 0; j < probe.index.size(); ++j) row[j] = d_->sensordata[probe.index[j]]; break;
+      case S::kQpos: for (size_t j = 0; j < probe.index.size(); ++j) row[j] = d_->qpos[probe.index[j]]; break;
+      case S::kQvel: for (size_t j = 0; j < probe.index.size(); ++j) row[j] = d_->qvel[probe.index[j]]; break;
+      case S::kSitePos: std::copy(d_->site_xpos + 3 * i0, d_->site_xpos + 3 * i0 + 3, row); break;
+      case S::kSiteMat: std::copy(d_->site_xmat + 9 * i0, d_->site_xmat + 9 * i0 + 9, row); break;
+      case S::kBodyPos: std::copy(d_->xpos + 3 * i0, d_->xpos + 3 * i0 + 3, row); break;
+      case S::kBodyQuat: std::copy(d_->xquat + 4 * i0, d_->xquat + 4 * i0 + 4, row); break;
+    }
+  }
+
+  while (next_event_ < config_.events.size() && t >= config_.events[next_event_].time) {
+    adapter_->on_event(config_.events[next_event_]);
+    ++next_event_;
+  }
+
+  adapter_->step(t, stamp, y, u_.data(), log_, k);
+  motor_.push(u_.data(), u_applied_.data());
+  for (int i = 0; i < nu; ++i) d_->ctrl[config_.actuators[i]] = u_applied_[i];
+  if (!force_bodies_.empty()) apply_forces(t);
+  const MujocoApi& mj = mujoco_api();
+  for (int s = 0; s < substeps_; ++s) {
+    mj.step2(m_, d_);
+    mj.step1(m_, d_);
+  }
+}
+
+const RolloutResult& Rollout::run() noexcept {
+  result_ = RolloutResult();
+  if (!m_ || !adapter_) {
+    result_.error = "rollout: not configured";
+    return result_;
+  }
+  int warnings0 = 0;
+  for (int i = 0; i < mjNWARNING; ++i) warnings0 += d_->warning[i].number;
+  try {
+    for (int k = 0; k < config_.ticks; ++k) {
+      tick(k);
+      result_.ticks = k + 1;
+    }
+    result_.ok = true;
+  } catch (const std::exception& e) {  // MuJoCo's Python error hook throws on mju_error
+    result_.error = e.what();
+  } catch (...) {
+    result_.error = "unknown error in the native loop";
+  }
+  int warnings = 0;
+  for (int i = 0; i < mjNWARNING; ++i) warnings += d_->warning[i].number;
+  result_.warnings = warnings - warnings0;
+  return result_;
+}
+
+void step_adapter(Adapter& adapter, const double* y, int n, double dt) {
+  LogBuffer log;
+  adapter.declare(log);
+  log.allocate(n);
+  std::vector<double> u(adapter.command_size());
+  for (int k = 0; k < n; ++k) adapter.step(k * dt, k * dt, y, u.data(), log, k);
+}
+
+void step_raw(const mjModel* model, mjData* data, int n, const double* ctrl, const int* actuators,
+              int k) noexcept {
+  const MujocoApi& mj = mujoco_api();
+  if (!mj.step) return;
+  for (int i = 0; i < n; ++i) {
+    if (ctrl)
+      for (int j = 0; j < k; ++j) data->ctrl[actuators[j]] = ctrl[static_cast<size_t>(i) * k + j];
+    mj.step(model, data);
+  }
+}
+
+}  // namespace kiloloop::sil

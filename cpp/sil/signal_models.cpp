@@ -1,0 +1,99 @@
+#include "sil/signal_models.hpp"
+
+#include <cmath>
+
+namespace kiloloop::sil {
+
+namespace {
+bool check_vector(const std::vector<double>& v, int n, const char* name, std::string* why) {
+  if (!v.empty() && static_cast<int>(v.size()) != n) {
+    *why = std::string(name) + ": expected 0 or " + std::to_string(n) + " entries, got " +
+           std::to_string(v.size());
+    return false;
+  }
+  for (double x : v)
+    if (!std::isfinite(x) || x < 0.0) {
+      *why = std::string(name) + ": expected finite values >= 0";
+      return false;
+    }
+  return true;
+}
+}  // namespace
+
+bool SensorModel::configure(const SensorModelConfig& config, int n, std::string* why) {
+  if (!check_vector(config.sigma, n, "sigma", why) || !check_vector(config.quantum, n, "quantum", why))
+    return false;
+  n_ = n;
+  sigma_ = config.sigma.empty() ? std::vector<double>(n, 0.0) : config.sigma;
+  quantum_ = config.quantum.empty() ? std::vector<double>(n, 0.0) : config.quantum;
+  noisy_ = false;
+  for (double s : sigma_) noisy_ = noisy_ || s > 0.0;
+  rng_.reseed(config.seed);
+  return true;
+}
+
+void SensorModel::apply(const double* x, double* y) noexcept {
+  for (int i = 0; i < n_; ++i) {
+    double v = x[i];
+    if (noisy_) v += sigma_[i] * rng_.normal();
+    // nearbyint in the default rounding mode rounds half to even, as numpy.round does.
+    if (quantum_[i] > 0.0) v = quantum_[i] * std::nearbyint(v / quantum_[i]);
+    y[i] = v;
+  }
+}
+
+void MeasurementDelay::configure(int n, int ticks) {
+  n_ = n;
+  ticks_ = ticks < 0 ? 0 : ticks;
+  head_ = count_ = 0;
+  times_.assign(ticks_ + 1, 0.0);
+  values_.assign(static_cast<size_t>(ticks_ + 1) * n, 0.0);
+}
+
+void MeasurementDelay::push(double t, const double* x, double* stamp, const double** y) noexcept {
+  const int size = ticks_ + 1;
+  // The ring holds the last `size` samples; head_ is the oldest.
+  const int slot = (head_ + count_) % size;
+  times_[slot] = t;
+  for (int i = 0; i < n_; ++i) values_[static_cast<size_t>(slot) * n_ + i] = x[i];
+  ++count_;
+  int use = slot;  // fewer than ticks + 1 samples so far: the newest (as sil/loop.py)
+  if (count_ > ticks_) {
+    use = head_;   // the oldest, then dropped
+    head_ = (head_ + 1) % size;
+    --count_;
+  }
+  *stamp = times_[use];
+  *y = values_.data() + static_cast<size_t>(use) * n_;
+}
+
+bool MotorModel::configure(const MotorModelConfig& config, int n, std::string* why) {
+  if (config.delay_ticks < 0 || !(config.dt > 0.0) || !std::isfinite(config.time_constant) ||
+      config.time_constant < 0.0) {
+    *why = "motor model: expected delay_ticks >= 0, dt > 0 and a finite time_constant >= 0";
+    return false;
+  }
+  n_ = n;
+  ticks_ = config.delay_ticks;
+  head_ = 0;
+  alpha_ = config.dt / (config.time_constant + config.dt);
+  fifo_.assign(static_cast<size_t>(ticks_) * n, 0.0);
+  state_.assign(n, 0.0);
+  return true;
+}
+
+void MotorModel::push(const double* u, double* y) noexcept {
+  for (int i = 0; i < n_; ++i) {
+    double arriving = u[i];
+    if (ticks_ > 0) {
+      double& slot = fifo_[static_cast<size_t>(head_) * n_ + i];
+      arriving = slot;  // sent ticks_ ticks ago (zero before the first command arrives)
+      slot = u[i];
+    }
+    state_[i] = alpha_ == 1.0 ? arriving : state_[i] + alpha_ * (arriving - state_[i]);
+    y[i] = state_[i];
+  }
+  if (ticks_ > 0) head_ = (head_ + 1) % ticks_;
+}
+
+}  // namespace kiloloop::sil

@@ -1,0 +1,94 @@
+// The native loop's signal models: deterministic streams, numpy-compatible rounding, the Python
+// loop's delay FIFO semantics, motor delay + lag values, no allocation per call.
+#include "sil/signal_models.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <vector>
+
+#include "alloc_counter.hpp"
+
+namespace kiloloop::sil {
+namespace {
+
+TEST(NativeRng, SameSeedSameStreamOtherSeedOther) {
+  Rng a(42), b(42), c(43);
+  double sum = 0.0, sq = 0.0;
+  const int n = 20000;
+  for (int i = 0; i < n; ++i) {
+    const double x = a.normal();
+    EXPECT_EQ(x, b.normal());
+    sum += x;
+    sq += x * x;
+  }
+  EXPECT_NE(Rng(42).normal(), c.normal());
+  EXPECT_NEAR(sum / n, 0.0, 0.03);        // ~4 sigma of the mean of 20000 normals
+  EXPECT_NEAR(sq / n, 1.0, 0.05);
+}
+
+TEST(NativeSensorModel, QuantizesHalfToEvenLikeNumpy) {
+  SensorModel s;
+  std::string why;
+  ASSERT_TRUE(s.configure(SensorModelConfig{{}, {0.5, 0.0}, 0}, 2, &why)) << why;
+  const double x[2] = {0.25, 0.123};  // 0.25 / 0.5 = 0.5 -> 0 (half to even), as numpy.round
+  double y[2];
+  s.apply(x, y);
+  EXPECT_EQ(y[0], 0.0);
+  EXPECT_EQ(y[1], 0.123);
+  EXPECT_FALSE(s.configure(SensorModelConfig{{-1.0, 0.0}, {}, 0}, 2, &why));
+  EXPECT_FALSE(s.configure(SensorModelConfig{{0.1}, {}, 0}, 2, &why));
+}
+
+TEST(NativeMeasurementDelay, MirrorsThePythonLoopFifo) {
+  // sil/loop.py with delay_ticks = 2: ticks 0 and 1 see the newest sample, then t - 2.
+  MeasurementDelay d;
+  d.configure(1, 2);
+  const double expected[] = {0, 1, 0, 1, 2, 3};
+  for (int k = 0; k < 6; ++k) {
+    const double x = k;
+    double stamp = -1;
+    const double* y = nullptr;
+    d.push(0.001 * k, &x, &stamp, &y);
+    EXPECT_EQ(*y, expected[k]) << "tick " << k;
+    EXPECT_EQ(stamp, 0.001 * expected[k]);
+  }
+}
+
+TEST(NativeMotorModel, DelayThenFirstOrderLag) {
+  MotorModel m;
+  std::string why;
+  ASSERT_TRUE(m.configure(MotorModelConfig{2, 0.001, 0.001}, 1, &why)) << why;  // alpha = 1/2
+  const double u = 1.0;
+  double y = -1.0;
+  const double expected[] = {0.0, 0.0, 0.5, 0.75, 0.875};
+  for (double e : expected) {
+    m.push(&u, &y);
+    EXPECT_EQ(y, e);
+  }
+  EXPECT_FALSE(m.configure(MotorModelConfig{-1, 0.0, 0.001}, 1, &why));
+}
+
+TEST(NativeSignalModels, NoAllocationPerCall) {
+  SensorModel s;
+  MotorModel m;
+  MeasurementDelay d;
+  std::string why;
+  ASSERT_TRUE(s.configure(SensorModelConfig{std::vector<double>(12, 0.01), std::vector<double>(12, 1e-3), 1}, 12, &why));
+  ASSERT_TRUE(m.configure(MotorModelConfig{3, 0.01, 0.001}, 6, &why));
+  d.configure(12, 2);
+  std::vector<double> x(12, 0.3), y(12), u(6, 1.0), tau(6);
+  testing::AllocationScope scope;
+  for (int k = 0; k < 1000; ++k) {
+    double stamp;
+    const double* delayed;
+    s.apply(x.data(), y.data());
+    d.push(0.001 * k, y.data(), &stamp, &delayed);
+    m.push(u.data(), tau.data());
+  }
+  EXPECT_EQ(scope.count(), 0u);
+  EXPECT_TRUE(std::isfinite(tau[0]));
+}
+
+}  // namespace
+}  // namespace kiloloop::sil

@@ -1,0 +1,216 @@
+"""Native SIL figures for `kiloloop bench` (`sil_native` in --json): per family, the native tick
+against one raw `mj_step` of the same model (both called from C++), the real-time factor on one
+core and on all cores (a batch on one thread per core), the batch speed-up of 2 threads over 1,
+and the per-tick Python loop's figures beside them. Families without a native adapter yet
+(quadruped, aerial) report null.
+
+Timing is taken around whole C++ calls (the loop itself reads no clock). Costs per tick and per
+mj_step are CPU time of the calling thread (`time.thread_time`: the loop and the raw steps run on
+it), the least of `REPEATS` interleaved runs: on a shared machine the wall clock also counts other
+processes' turns, the thread's CPU time does not. Wall-clock figures sit beside them
+(`*_wall`), and the multi-thread figures are wall clock by nature, with the load average.
+"""
+from __future__ import annotations
+
+import os
+import statistics
+import time
+
+import mujoco
+import numpy as np
+
+import kiloloop as kl
+
+REPEATS = 5
+BATCH = 8  # rollouts in the thread-scaling batch (issue 13: 8 on 2 threads vs 1)
+
+
+def _arm_track_setup(robot=None):
+    """(robot, rig, points, trajectory, controller factory) of arm-track on an arm robot file."""
+    from .. import scenarios
+    from ..scenarios import arm_track
+    from ..sil.arm_rig import ArmRig, controller
+
+    robot_obj, settings = scenarios.prepare(arm_track, robot)
+    rig = ArmRig(robot_obj)
+    points = arm_track.waypoints(rig, settings)
+    rig.plant.q0 = points[0]
+    rig.plant.reset()
+    traj = kl.QuinticTrajectory(points, np.array([0.0, settings["t_1"], settings["t_2"]]))
+
+    def make():
+        return controller(robot_obj, rig.model, "computed_torque", points[0])
+    return robot_obj, rig, traj, make
+
+
+def _rollouts(rig, traj, make, count: int, duration: float) -> list:
+    """`count` arm-track rollouts on the rig's model, each with its own MjData and controller."""
+    from ..sil import native
+    from ..sil.arm_adapters import JointTrackingTick
+
+    out = []
+    for _ in range(count):
+        data = mujoco.MjData(rig.plant.model)
+        mujoco.mj_copyData(data, rig.plant.model, rig.plant.data)
+        tick = JointTrackingTick(make(), traj)
+        out.append(native.rollout(rig.plant, tick.native_adapter(), duration, data=data,
+                                  observe=native.Observe("q_true", "ee")))
+    return out
+
+
+def _timed_batch(rig, traj, make, count, duration, threads, cpu: list | None = None) -> float:
+    """[s] wall time of one batch run (set-up excluded); appends the process CPU time [s] it took
+    to `cpu` when given (CPU time / wall = cores actually obtained: on a shared machine, other
+    processes' load shows here rather than as a slower loop)."""
+    from ..sil import batch
+
+    rollouts = _rollouts(rig, traj, make, count, duration)
+    cpu0, start = time.process_time(), time.perf_counter()
+    batch.run(rollouts, threads=threads)
+    wall = time.perf_counter() - start
+    if cpu is not None:
+        cpu.append(time.process_time() - cpu0)
+    assert all(r.ok for r in rollouts), [r.error for r in rollouts if not r.ok]
+    return wall
+
+
+def arm_native(quick: bool, robot=None) -> dict:
+    from ..sil import native
+    from ..sil.arm_adapters import JointTrackingTick
+    from ..sil.loop import LoopSettings, run_loop
+
+    duration = 1.0 if quick else 4.5
+    robot_obj, rig, traj, make = _arm_track_setup(robot)
+    ticks = native.ticks_of(duration)
+    substeps = LoopSettings(duration=duration).substeps(rig.plant.timestep)
+
+    # Interleaved, REPEATS times: one native rollout on this thread, then raw mj_step replaying
+    # its torques from the same start state (the same motion, so the same contacts and solver
+    # work: the difference is the loop). The physics timestep equals the control period here.
+    assert substeps == 1, "raw replay assumes one physics step per control tick"
+    raw_cpu, raw_wall, tick_cpu, tick_wall = [], [], [], []
+    actuators = [int(a) for a in rig.plant._act]
+    for _ in range(REPEATS):
+        r = _rollouts(rig, traj, make, 1, duration)[0]
+        c0, w0 = time.thread_time(), time.perf_counter()
+        r.run()
+        tick_cpu.append(time.thread_time() - c0)
+        tick_wall.append(time.perf_counter() - w0)
+        assert r.ok, r.error
+        tau = np.ascontiguousarray(r.log()["tau"])
+        data = mujoco.MjData(rig.plant.model)
+        mujoco.mj_copyData(data, rig.plant.model, rig.plant.data)
+        c0, w0 = time.thread_time(), time.perf_counter()
+        native._native.step_raw(rig.plant.model, data, ticks, tau, actuators)
+        raw_cpu.append(time.thread_time() - c0)
+        raw_wall.append(time.perf_counter() - w0)
+    raw = min(raw_cpu) / (ticks * substeps)
+    tick = min(tick_cpu) / ticks
+    # The compiled controller behind the adapter alone, on the start measurement (no physics).
+    ctrl_cpu = []
+    y = np.concatenate([rig.plant.q(), rig.plant.qd()])
+    for _ in range(REPEATS):
+        adapter = JointTrackingTick(make(), traj).native_adapter()
+        c0 = time.thread_time()
+        native._native.step_adapter(adapter, y, ticks)
+        ctrl_cpu.append(time.thread_time() - c0)
+    controller = min(ctrl_cpu) / ticks
+    one = min(tick_wall)
+
+    cores = os.cpu_count() or 1
+    count = max(BATCH, 2 * cores)
+    all_cores = statistics.median(_timed_batch(rig, traj, make, count, duration, cores)
+                                  for _ in range(REPEATS))
+    cpu1: list = []
+    cpu2: list = []
+    t1 = statistics.median(_timed_batch(rig, traj, make, BATCH, duration, 1, cpu1)
+                           for _ in range(REPEATS))
+    t2 = statistics.median(_timed_batch(rig, traj, make, BATCH, duration, 2, cpu2)
+                           for _ in range(REPEATS))
+
+    # The per-tick Python loop on the same controller and trajectory (sil/loop.py).
+    py_duration = min(duration, 1.0)
+    py_ticks = native.ticks_of(py_duration)
+
+    def python_loop() -> tuple[float, float]:
+        rig.plant.reset()
+        tick_fn = JointTrackingTick(make(), traj)
+        c0, w0 = time.thread_time(), time.perf_counter()
+        run_loop(rig.plant, tick_fn, LoopSettings(duration=py_duration),
+                 observe=native.Observe("q_true", "ee"))
+        return time.thread_time() - c0, time.perf_counter() - w0
+
+    py_runs = [python_loop() for _ in range(REPEATS)]
+    py_tick = min(c for c, _ in py_runs) / py_ticks
+    py_wall = min(w for _, w in py_runs)
+    return {
+        "scenario": "arm-track",
+        "robot": robot_obj.name,
+        "sim_seconds": duration,
+        "ticks": ticks,
+        "physics_dt": rig.plant.timestep,
+        "raw_mj_step_us": raw * 1e6,
+        "tick_us": tick * 1e6,
+        "tick_over_mj_step": tick / (raw * substeps),
+        # Adapter + compiled controller alone; the rest of the tick over mj_step is the loop.
+        "controller_step_us": controller * 1e6,
+        "loop_glue_us": (tick - raw * substeps - controller) * 1e6,
+        "tick_over_mj_step_wall": (min(tick_wall) / ticks) / (min(raw_wall) / (ticks * substeps)),
+        # Simulated seconds per second of one core's CPU time (wall: per elapsed second).
+        "real_time_factor": duration / (tick * ticks),
+        "real_time_factor_wall": duration / one,
+        "cores": cores,
+        "real_time_factor_all_cores": count * duration / all_cores,
+        "batch": BATCH,
+        "batch_1_thread_s": t1,
+        "batch_2_threads_s": t2,
+        "batch_speedup_2_over_1": t1 / t2,
+        # CPU seconds per batch: equal for 1 and 2 threads = no extra work from threading.
+        "batch_1_thread_cpu_s": statistics.median(cpu1),
+        "batch_2_threads_cpu_s": statistics.median(cpu2),
+        "load_average_1min": os.getloadavg()[0],
+        "python_tick_us": py_tick * 1e6,
+        "python_tick_over_mj_step": py_tick / (raw * substeps),
+        "python_real_time_factor": py_duration / (py_tick * py_ticks),
+        "python_real_time_factor_wall": py_duration / py_wall,
+    }
+
+
+def run_native_bench(quick: bool, robot=None) -> dict:
+    from ..sil import native
+
+    if not native.available():
+        return {"available": False, "arm": None, "quadruped": None, "aerial": None}
+    # quadruped and aerial: no native adapter yet (their rigs are being rewritten; issue 13).
+    return {"available": True, "arm": arm_native(quick, robot), "quadruped": None, "aerial": None}
+
+
+def print_native_bench(r: dict) -> None:
+    print("Native SIL (C++ closed loop on the plant's MuJoCo model; Python loop beside it)")
+    if not r.get("available"):
+        print("  not built (no mujoco wheel at configure time)")
+        return
+    for family in ("arm", "quadruped", "aerial"):
+        a = r.get(family)
+        if a is None:
+            print(f"  {family:<10} no native adapter yet")
+            continue
+        print(f"  {family}: {a['scenario']} on {a['robot']}, {a['sim_seconds']} s simulated; "
+              f"CPU time, least of {REPEATS}")
+        print(f"    raw mj_step (from C++)              {a['raw_mj_step_us']:8.2f} us")
+        print(f"    native tick                         {a['tick_us']:8.2f} us   "
+              f"python loop tick {a['python_tick_us']:8.1f} us")
+        print(f"      of which adapter + controller     {a['controller_step_us']:8.2f} us   "
+              f"loop (models, FIFOs, events, logs) {a['loop_glue_us']:.2f} us")
+        print(f"    tick / raw mj_step                  {a['tick_over_mj_step']:8.2f}      "
+              f"python loop       {a['python_tick_over_mj_step']:8.2f}   (goal <= 1.2; wall "
+              f"clock {a['tick_over_mj_step_wall']:.2f})")
+        print(f"    real-time factor, one core          {a['real_time_factor']:8.0f} x    "
+              f"python loop       {a['python_real_time_factor']:8.1f} x   (wall clock "
+              f"{a['real_time_factor_wall']:.0f} x, {a['python_real_time_factor_wall']:.1f} x)")
+        print(f"    real-time factor, {a['cores']} cores (batch) {a['real_time_factor_all_cores']:8.0f} x")
+        print(f"    batch of {a['batch']}: 1 thread {a['batch_1_thread_s']:.3f} s, 2 threads "
+              f"{a['batch_2_threads_s']:.3f} s -> {a['batch_speedup_2_over_1']:.2f} x (goal >= 1.8)")
+        print(f"      CPU time 1 thread {a['batch_1_thread_cpu_s']:.3f} s, 2 threads "
+              f"{a['batch_2_threads_cpu_s']:.3f} s; load average {a['load_average_1min']:.1f} "
+              f"on {a['cores']} cores")
