@@ -1,5 +1,7 @@
 #include "kiloloop/control/joint_torque_controller.hpp"
 
+#include "kiloloop/control/rules.hpp"
+
 namespace kiloloop {
 
 Status JointTorqueController::configure_common(const Eigen::VectorXd& kp, const Eigen::VectorXd& kd,
@@ -14,10 +16,10 @@ Status JointTorqueController::configure_common(const Eigen::VectorXd& kp, const 
   if (failed(s)) return s;
   s = Dynamics::configure(model, gravity, &dyn_, why);
   if (failed(s)) return s;
-  expand_gains(kp, model->nq(), &kp_);
-  expand_gains(kd, model->nq(), &kd_);
+  broadcast_gains(kp, model->nq(), &kp_);
+  broadcast_gains(kd, model->nq(), &kd_);
   guard_.configure(*model, max_measurement_age);
-  counters_ = StepCounters{};
+  counters_ = StatusCounters{};
   configured_ = true;
   return Status::kOk;
 }
@@ -33,6 +35,9 @@ Status JointTorqueController::step(const JointControlInput& in, JointControlOutp
     s = guard_.damped_stop(dyn_, kd_, in, r, out.tau);
   } else if (const Status l = law(in, guard_.clamped_q_ref(), out.tau); failed(l)) {
     s = guard_.hold(dyn_, l, out.tau);
+  } else if (!out.tau.allFinite()) {
+    // Finite inputs whose torque overflows (huge references or velocities): no usable law.
+    s = guard_.hold(dyn_, Status::kSolverFailed, out.tau);
   } else {
     s = guard_.saturate(worst(r, l), out.tau);
   }
