@@ -85,8 +85,11 @@ void mutate_time(Rng& r, double max_age, const StampModel& m, double* t, double*
 
 void Tally::fail(std::uint64_t index, const Desc& d, std::uint64_t* counter, const char* fmt, ...) {
   ++*counter;
-  if (printed >= 8) return;
-  ++printed;
+  // The first few of each kind (bad outputs, missed statuses, known failures).
+  int& shown = counter == &bad_outputs ? printed : counter == &missed_status ? printed_status
+                                                                             : printed_known;
+  if (shown >= 6) return;
+  ++shown;
   char what[512];
   va_list ap;
   va_start(ap, fmt);

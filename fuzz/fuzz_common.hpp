@@ -65,7 +65,7 @@ struct Tally {
   std::uint64_t bad_outputs = 0;     // non-finite or beyond-limit outputs, wrong status claims
   std::uint64_t missed_status = 0;   // bad inputs answered with a status >= 0
   std::uint64_t known_failures = 0;  // findings in code this harness may not fix (see report)
-  int printed = 0;
+  int printed = 0, printed_status = 0, printed_known = 0;
   // Records a finding on input `index` and prints the first few (the input's description).
   void fail(std::uint64_t index, const Desc& d, std::uint64_t* counter, const char* fmt, ...)
       __attribute__((format(printf, 5, 6)));

@@ -4,7 +4,8 @@
 //
 //   kiloloop_fuzz [--target NAME|all] [--inputs N] [--seed S]
 //
-// Exit 0 when every target ran without crashes, bad outputs or missed statuses.
+// Exit 0 when every target ran without crashes, bad outputs or missed statuses; 77 (ctest's skip)
+// when a single target's only findings are known defects of code outside this harness's reach.
 #include <sys/mman.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -75,6 +76,7 @@ int main(int argc, char** argv) {
                                            MAP_SHARED | MAP_ANONYMOUS, -1, 0));
   if (shared == MAP_FAILED) return 3;
   int failures = 0;
+  std::uint64_t known = 0;
   std::printf("kiloloop_fuzz: seed %llu, %llu inputs per target\n",
               static_cast<unsigned long long>(seed), static_cast<unsigned long long>(inputs));
   std::printf("%-22s %10s %10s %11s %13s %7s %7s %8s\n", "target", "inputs", "bad_inputs",
@@ -114,6 +116,13 @@ int main(int argc, char** argv) {
     }
     std::fflush(stdout);
     if (crashed || r.bad_outputs > 0 || r.missed_status > 0) ++failures;
+    known += crashed ? 0 : r.known_failures;
+  }
+  if (failures == 0 && known > 0) {
+    std::printf("KNOWN-FAILING (skipped): %llu findings in code this harness does not fix; see the "
+                "KNOWN lines above and the target's source for the defects\n",
+                static_cast<unsigned long long>(known));
+    return run.size() == 1 ? 77 : 0;  // 77: ctest's skip code for a single-target run
   }
   return failures == 0 ? 0 : 1;
 }

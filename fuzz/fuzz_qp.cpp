@@ -107,7 +107,7 @@ Tally fuzz_qp(std::uint64_t seed, std::uint64_t inputs, volatile std::uint64_t* 
     // Mutations: none (40%), or 1-3 of: a non-finite entry, an extreme entry, a wrong size, an
     // indefinite / asymmetric / singular H.
     bool size_bad = false, structure_bad = false;
-    int size_kind = -1;
+    int size_kind = -1, structure_kind = -1;
     const int mutations = r.chance(0.4) ? 0 : 1 + r.below(3);
     for (int m = 0; m < mutations; ++m) {
       const int what = r.below(10);
@@ -147,18 +147,24 @@ Tally fuzz_qp(std::uint64_t seed, std::uint64_t inputs, volatile std::uint64_t* 
         desc.add("%s", kSizeNames[size_kind]);
         size_bad = true;
       } else {
-        if (r.chance(0.5)) {
-          p.H(0, 0) = -1.0;
-          desc.add("H(0,0)=-1 (indefinite)");
-        } else if (n > 1) {
-          p.H(0, 1) += 0.5;
-          desc.add("H(0,1)+=0.5 (asymmetric)");
-        } else {
-          p.H(0, 0) = 0.0;
-          desc.add("H(0,0)=0 (singular)");
-        }
-        structure_bad = true;
+        structure_kind = r.below(2);  // applied after the other mutations (which could undo it)
       }
+    }
+    if (structure_kind >= 0) {
+      // A negative pivot on a variable that is not eliminated (lb == ub removes its row and
+      // column unless every variable is fixed), or an asymmetry beyond the 1e-9 tolerance.
+      int j = 0, fixed = 0;
+      for (int i = 0; i < n; ++i) fixed += bounds && p.lb[i] == p.ub[i];
+      while (j < n - 1 && fixed < n && bounds && p.lb[j] == p.ub[j]) ++j;
+      if (structure_kind == 0 || n == 1) {
+        p.H(j, j) = -1.0;
+        desc.add("H(%d,%d)=-1 (indefinite)", j, j);
+      } else {
+        const double big = p.H.topLeftCorner(n, n).cwiseAbs().maxCoeff();
+        p.H(0, 1) += 1.0 + 1e-6 * (std::isfinite(big) ? big : 0.0);
+        desc.add("H(0,1)=%.17g (asymmetric)", p.H(0, 1));
+      }
+      structure_bad = true;
     }
     // Bad by the contract, from the data as it now is: NaN/inf in H, g, A, b, C; NaN or a never
     // met infinity in d, lb, ub (+inf in d, -inf in lb, +inf in ub are absent constraints).

@@ -71,7 +71,7 @@ Tally fuzz_arm_supervisor(std::uint64_t seed, std::uint64_t inputs, volatile std
           break;
         default:
           in.tau_command.setConstant(extreme_value(r));
-          desc.add("tau_command all = %.17g", in.tau_command[0]);
+          desc.add("tau_command all = %.17g", in.tau_command.size() ? in.tau_command[0] : 0.0);
           break;
       }
     }
