@@ -48,6 +48,8 @@ Status CartesianTrackingController::configure(const CartesianTrackingConfig& con
   c.joint_out_ = make_joint_output(c.nq_);
   c.q_r_ = c.qd_r_ = c.qd_prev_ = Eigen::VectorXd::Zero(c.nq_);
   c.J_ = Eigen::MatrixXd::Zero(6, c.nq_);
+  // An LDLT that never computed has no info value: moving it is undefined (UBSan).
+  c.ldlt_.compute(Eigen::Matrix<double, 6, 6>::Identity());
   *out = std::move(c);
   return Status::kOk;
 }

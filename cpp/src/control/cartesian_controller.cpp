@@ -48,8 +48,10 @@ Status CartesianTorqueController::configure_common(const CartesianCommonConfig& 
   J_ = Eigen::MatrixXd::Zero(6, n);
   M_ = Eigen::MatrixXd::Identity(n, n);
   MinvJt_ = Eigen::MatrixXd::Zero(n, 6);
-  M_ldlt_ = Eigen::LDLT<Eigen::MatrixXd>(n);
-  M_ldlt_.compute(M_);  // sizes its internal storage once
+  // Eigen's LDLT leaves its info field unset until compute(): moving one that never computed
+  // reads it (UBSan: invalid enum load). Computing both here also sizes M_ldlt_'s storage once.
+  M_ldlt_.compute(M_);
+  A_ldlt_.compute(Eigen::Matrix<double, 6, 6>::Identity());
   h_ = zero_ = last_valid_q_ = Eigen::VectorXd::Zero(n);
   has_valid_q_ = has_last_t_ = false;
   gate_ = MeasurementGate(c.max_measurement_age);
