@@ -1,6 +1,9 @@
 # The README's two commands: `make demo` and `make test`. Both set up everything they need:
 # Debian packages (scripts/setup_system.sh), a virtual environment in .venv, and the package
 # built by scikit-build-core into build/py (incremental; the C++ tests are built there too).
+# Hardening: `make fuzz` (1,000,000 inputs per fuzz target, from the build/py build) and
+# `make sanitize` (a separate plain-CMake build in build/asan with ASan + UBSan: the C++ tests,
+# short fuzz runs, and the core built with -fno-exceptions -fno-rtti).
 # mujoco is installed before the build: the native SIL loop compiles against its wheel's headers.
 SHELL := /bin/bash
 PYTHON ?= python3
@@ -9,8 +12,16 @@ BIN := $(VENV)/bin
 OUT := out
 BUILD_DIR := build/py
 PIP_BUILD_FLAGS := --no-build-isolation --config-settings=cmake.define.KILOLOOP_BUILD_TESTS=ON
+SAN_DIR := build/asan
+FUZZ_INPUTS ?= 1000000
+FUZZ_SEED ?= 1
+SAN_FUZZ_INPUTS ?= 20000
+JOBS ?= 2
+# LeakSanitizer on; any UB report is fatal (also compiled in: -fno-sanitize-recover=undefined).
+SAN_ENV := ASAN_OPTIONS=detect_leaks=1:abort_on_error=1:strict_string_checks=1 \
+           UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
 
-.PHONY: demo test bench build system-deps clean robot-matrix matrix
+.PHONY: demo test bench build system-deps clean robot-matrix matrix fuzz sanitize
 
 demo: build
 	@echo "==> demo: the UR5 follows a quintic in MuJoCo (arm-track); plot and log into $(OUT)/"
@@ -34,6 +45,26 @@ robot-matrix: build
 # Quadruped robot x scenario x delay table (minutes; not part of `make test`).
 matrix: build
 	$(BIN)/python -m kiloloop.bench.quadruped_matrix bench
+
+# Every fuzz target, FUZZ_INPUTS inputs each; prints inputs, bad outputs, missed statuses and
+# crashes per target and fails on any of them.
+fuzz: build
+	$(BUILD_DIR)/kiloloop_fuzz --inputs $(FUZZ_INPUTS) --seed $(FUZZ_SEED)
+
+# ASan + UBSan build of the core, the URDF loader, the C++ tests and the fuzz harness (plain
+# CMake, -O1), plus kiloloop_core_rt (-fno-exceptions -fno-rtti); runs ctest there (the tests,
+# SAN_FUZZ_INPUTS inputs per fuzz target, the no-exceptions smoke program).
+sanitize: system-deps $(BIN)/cmake
+	$(BIN)/cmake -S . -B $(SAN_DIR) -G Ninja -DCMAKE_MAKE_PROGRAM=$(abspath $(BIN)/ninja) \
+	  -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g1 -DNDEBUG" \
+	  -DKILOLOOP_SANITIZE=ON -DKILOLOOP_RT_NO_EXCEPTIONS=ON -DKILOLOOP_BUILD_TESTS=ON \
+	  -DKILOLOOP_BUILD_PYTHON=OFF -DKILOLOOP_BUILD_BENCH=OFF \
+	  -DKILOLOOP_FUZZ_SHORT_INPUTS=$(SAN_FUZZ_INPUTS)
+	$(BIN)/cmake --build $(SAN_DIR) -j $(JOBS)
+	$(SAN_ENV) ctest --test-dir $(SAN_DIR) --output-on-failure -j $(JOBS)
+
+$(BIN)/cmake: | $(BIN)/python
+	$(BIN)/python -m pip install -q cmake ninja
 
 system-deps:
 	scripts/setup_system.sh

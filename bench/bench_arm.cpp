@@ -112,13 +112,22 @@ int main(int argc, char** argv) {
     CartesianImpedanceController c;
     CartesianImpedanceController::configure(CartesianImpedanceConfig{}, model, &c, &why);
     CartesianControlOutput out = c.make_output();
-    rows.push_back(time_calls("CartesianImpedance.step", [&](int i) { return ok(c.step(cin[i], out)); }, n));
+    // Monotonic time across the cycled inputs: a stamp older than one already used is stale.
+    long tick = 0;
+    rows.push_back(time_calls("CartesianImpedance.step", [&](int i) {
+      cin[i].t = cin[i].stamp = 1e-3 * static_cast<double>(tick++);
+      return ok(c.step(cin[i], out));
+    }, n));
   }
   {
     HybridForcePositionController c;
     HybridForcePositionController::configure(HybridForcePositionConfig{}, model, &c, &why);
     CartesianControlOutput out = c.make_output();
-    rows.push_back(time_calls("HybridForcePosition.step", [&](int i) { return ok(c.step(cin[i], out)); }, n));
+    long tick = 0;
+    rows.push_back(time_calls("HybridForcePosition.step", [&](int i) {
+      cin[i].t = cin[i].stamp = 1e-3 * static_cast<double>(tick++);
+      return ok(c.step(cin[i], out));
+    }, n));
   }
   {
     ArmSupervisor s;

@@ -326,10 +326,14 @@ int main(int argc, char** argv) {
     return ok(dyn.jacobian(s.q.col(i), J));
   }, "JntToJac", [&](int i) { return jac.JntToJac(s.kq[i], kJ) >= 0; }, n));
   // Each controller's step makes exactly one KDL call: the raw side is that call alone.
+  // Monotonic time across the cycled inputs: a stamp older than one already used is stale.
+  long joint_tick = 0;
   results.push_back(run_pair("computed_torque.step", [&](int i) {
+    s.inputs[i].t = s.inputs[i].stamp = 0.001 * static_cast<double>(joint_tick++);
     return ok(ct.step(s.inputs[i], out));
   }, "ChainIdSolver_RNE", raw_rne, n));
   results.push_back(run_pair("joint_pd_gravity.step", [&](int i) {
+    s.inputs[i].t = s.inputs[i].stamp = 0.001 * static_cast<double>(joint_tick++);
     return ok(pd.step(s.inputs[i], out));
   }, "JntToGravity", raw_gravity, n));
   results.push_back(run_pair("quintic.sample", [&](int i) {

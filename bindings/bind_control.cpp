@@ -31,6 +31,7 @@ void bind_joint_controller(py::module_& m, const char* name, const char* doc) {
       .def_property_readonly("nq", &Controller::nq)
       .def("make_input", &Controller::make_input)
       .def("make_output", &Controller::make_output)
+      .def("reset", &Controller::reset, "forget the last valid state and the measurement order")
       .def_property_readonly("counters", &Controller::counters);
 }
 
@@ -58,14 +59,7 @@ void bind_control(py::module_& m) {
   out.def(py::init<>()).def_readwrite("status", &JointControlOutput::status);
   vector_field(out, "tau", &JointControlOutput::tau, "(nq) [N m] torque command");
 
-  py::class_<StepCounters>(m, "StepCounters")
-      .def_readonly("ticks", &StepCounters::ticks)
-      .def_readonly("saturated", &StepCounters::saturated)
-      .def_readonly("reference_clamped", &StepCounters::reference_clamped)
-      .def_readonly("non_finite_measurement", &StepCounters::non_finite_measurement)
-      .def_readonly("non_finite_reference", &StepCounters::non_finite_reference)
-      .def_readonly("stale_measurement", &StepCounters::stale_measurement)
-      .def_readonly("bad_size", &StepCounters::bad_size);
+  // counters: StatusCounters (bind_status.cpp).
 
   bind_joint_config<ComputedTorqueConfig>(m, "ComputedTorqueConfig");
   bind_joint_config<JointPdGravityConfig>(m, "JointPdGravityConfig");

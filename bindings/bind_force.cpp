@@ -22,6 +22,7 @@ py::class_<Controller> bind_cartesian_controller(py::module_& m, const char* nam
       .def("make_input", &Controller::make_input)
       .def("make_output", &Controller::make_output)
       .def_property_readonly("tip_pose", &Controller::tip_pose)
+      .def("reset", &Controller::reset, "forget the last valid state and the measurement order")
       .def_property_readonly("counters", &Controller::counters);
   return cls;
 }
@@ -47,14 +48,7 @@ void bind_force(py::module_& m) {
   vector_field(out, "tau", &CartesianControlOutput::tau, "(nq) [N m]");
   vector_field(out, "pose_error", &CartesianControlOutput::pose_error, "(6) [m; rad]");
   vector_field(out, "wrench_command", &CartesianControlOutput::wrench_command, "(6) [N; N m]");
-  py::class_<CartesianCounters>(m, "CartesianCounters")
-      .def_readonly("ticks", &CartesianCounters::ticks)
-      .def_readonly("saturated", &CartesianCounters::saturated)
-      .def_readonly("non_finite_measurement", &CartesianCounters::non_finite_measurement)
-      .def_readonly("non_finite_reference", &CartesianCounters::non_finite_reference)
-      .def_readonly("stale_measurement", &CartesianCounters::stale_measurement)
-      .def_readonly("bad_size", &CartesianCounters::bad_size)
-      .def_readonly("solver_failed", &CartesianCounters::solver_failed);
+  // counters: StatusCounters (bind_status.cpp).
 
   py::class_<CartesianCommonConfig>(m, "CartesianCommonConfig")
       .def(py::init<>())

@@ -183,7 +183,8 @@ void bind_qp(py::module_& parent) {
       .value("ITERATION_LIMIT", QpStatus::kIterationLimit)
       .value("INFEASIBLE", QpStatus::kInfeasible)
       .value("BAD_INPUT", QpStatus::kBadInput)
-      .value("NOT_CONFIGURED", QpStatus::kNotConfigured);
+      .value("NOT_CONFIGURED", QpStatus::kNotConfigured)
+      .value("NUMERICAL_ERROR", QpStatus::kNumericalError);
 
   py::class_<PyQpResult>(m, "QpResult")
       .def_readonly("status", &PyQpResult::status)

@@ -59,17 +59,17 @@ void bind_safety(py::module_& m) {
       .def_readonly("stop_time", &SupervisorOutput::stop_time);
   vector_field(out, "tau", &SupervisorOutput::tau, "(nq) [N m] to the motors");
   vector_field(out, "thermal", &SupervisorOutput::thermal, "(nq) I^2 t state (trips at 1)");
-  py::class_<SupervisorCounters>(m, "SupervisorCounters")
-      .def_readonly("ticks", &SupervisorCounters::ticks)
+  // Step statuses (StatusCounters) plus the supervisor's events.
+  py::class_<SupervisorCounters, StatusCounters>(m, "SupervisorCounters")
       .def_readonly("estops", &SupervisorCounters::estops)
       .def_readonly("position_trips", &SupervisorCounters::position_trips)
       .def_readonly("velocity_trips", &SupervisorCounters::velocity_trips)
       .def_readonly("acceleration_trips", &SupervisorCounters::acceleration_trips)
       .def_readonly("overload_trips", &SupervisorCounters::overload_trips)
       .def_readonly("bad_command_trips", &SupervisorCounters::bad_command_trips)
-      .def_readonly("saturated", &SupervisorCounters::saturated)
+      .def_readonly("clipped", &SupervisorCounters::clipped, "ticks with clipped torque")
       .def_readonly("singularity_warnings", &SupervisorCounters::singularity_warnings)
-      .def_readonly("bad_measurement", &SupervisorCounters::bad_measurement)
+      .def_property_readonly("bad_measurement", &SupervisorCounters::bad_measurements)
       .def_readonly("measurement_trips", &SupervisorCounters::measurement_trips)
       .def_readonly("resets", &SupervisorCounters::resets);
   py::class_<ArmSupervisor>(m, "ArmSupervisor",

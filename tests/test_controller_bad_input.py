@@ -73,3 +73,45 @@ def test_input_fields_are_views_into_the_core(ur5_model):
     inp = ctrl.make_input()
     inp.q[:] = 0.25  # writes straight into the C++ struct
     np.testing.assert_array_equal(inp.q, np.full(6, 0.25))
+
+
+@pytest.mark.parametrize("cls", CONTROLLERS)
+def test_time_going_backwards_is_stale(cls, ur5_model):
+    """A sample older than one already acted on is stale (control/rules.hpp); reset() forgets
+    the order."""
+    ctrl = cls(ur5_model)
+    inp, out = _valid_input(ctrl), ctrl.make_output()
+    inp.t, inp.stamp = 1.0, 0.999
+    assert ctrl.step(inp, out) == kl.Status.OK
+    inp.t, inp.stamp = 0.9985, 0.9985  # within the age limit, but older than the last sample
+    assert ctrl.step(inp, out) == kl.Status.STALE_MEASUREMENT
+    assert np.all(np.isfinite(out.tau))
+    ctrl.reset()
+    assert ctrl.step(inp, out) == kl.Status.OK
+
+
+@pytest.mark.parametrize("cls", CONTROLLERS)
+def test_extreme_finite_inputs_give_finite_torque_within_limits(cls, ur5_model):
+    ctrl = cls(ur5_model)
+    out = ctrl.make_output()
+    for field in ("q", "qd", "q_ref", "qd_ref", "qdd_ref"):
+        for value in (1e308, -1e308, 5e-324, 1e154):
+            inp = _valid_input(ctrl)
+            getattr(inp, field)[:] = value
+            ctrl.step(inp, out)
+            assert np.all(np.isfinite(out.tau)), (field, value)
+            assert np.all(np.abs(out.tau) <= ur5_model.effort_limit), (field, value)
+
+
+def test_status_counters_are_one_struct_with_the_former_names(ur5_model):
+    ctrl = kl.ComputedTorqueController(ur5_model)
+    inp, out = _valid_input(ctrl), ctrl.make_output()
+    ctrl.step(inp, out)
+    inp.q[0] = np.nan
+    ctrl.step(inp, out)
+    c = ctrl.counters
+    assert isinstance(c, kl.StatusCounters)
+    assert kl.StepCounters is kl.StatusCounters and kl.CartesianCounters is kl.StatusCounters
+    assert c.ticks == 2 and c.ok == 1 and c.non_finite_measurement == 1
+    assert c.count(kl.Status.NON_FINITE_MEASUREMENT) == 1 and c.failures == 1
+    assert sum(c.as_dict().values()) == c.ticks

@@ -280,9 +280,10 @@ def test_bad_data_gives_bad_input_status():
         "NaN in H": dict(H=np.diag([1.0, nan, 1.0]), g=g),
         "inf in g": dict(H=H, g=[1.0, np.inf, 0.0]),
         "NaN in C": dict(H=H, g=g, C=np.array([[1.0, nan, 0], [0, 0, 1.0]]), d=d),
-        "-inf in d": dict(H=H, g=g, C=C, d=[1.0, -np.inf]),
         "NaN in b_eq": dict(H=H, g=g, A_eq=C[:1], b_eq=[nan]),
-        "+inf lower bound": dict(H=H, g=g, lb=[0.0, np.inf, 0.0]),
+        "NaN lower bound": dict(H=H, g=g, lb=[0.0, nan, 0.0]),
+        "inf in H": dict(H=np.array([[1.0, 0, np.inf], [0, 1.0, 0], [np.inf, 0, 1.0]]), g=g),
+        "denormal H (numerically zero)": dict(H=5e-324 * np.eye(3), g=g),
         "indefinite H": dict(H=np.diag([1.0, -1.0, 1.0]), g=g),
         "singular H": dict(H=np.diag([1.0, 0.0, 1.0]), g=g),
         "asymmetric H": dict(H=np.array([[1.0, 0.5, 0], [0, 1.0, 0], [0, 0, 1.0]]), g=g),
@@ -291,10 +292,89 @@ def test_bad_data_gives_bad_input_status():
         res = kl.qp.solve(**kw)
         assert res.status == QpStatus.BAD_INPUT, name
         assert np.all(res.x == 0.0), name
+    # Bounds that can never be met: -inf in d, +inf in lb, -inf in ub.
+    for name, kw in {"-inf in d": dict(C=C, d=[1.0, -np.inf]),
+                     "+inf lower bound": dict(lb=[0.0, np.inf, 0.0]),
+                     "-inf upper bound": dict(ub=[0.0, -np.inf, 0.0])}.items():
+        res = kl.qp.solve(H, g, **kw)
+        assert res.status == QpStatus.INFEASIBLE, name
+        assert np.all(res.x == 0.0), name
     # +inf in d drops the row; -inf in lb / +inf in ub are absent bounds.
     res = kl.qp.solve(H, g, C=C, d=[np.inf, np.inf], lb=[-np.inf] * 3, ub=[np.inf] * 3)
     assert res.status == QpStatus.OPTIMAL
     np.testing.assert_allclose(res.x, -g)
+
+
+def _violation_scaled(p, x):
+    """Largest constraint violation relative to the size of the constraint's terms."""
+    xi = np.abs(x).max()
+    v = 0.0
+    for M, r, eq in ((p.get("A_eq"), p.get("b_eq"), True), (p.get("C"), p.get("d"), False)):
+        if M is None:
+            continue
+        M, r = np.asarray(M, float), np.asarray(r, float)
+        keep = np.isfinite(r)
+        res = M[keep] @ x - r[keep]
+        res = np.abs(res) if eq else res
+        scale = np.abs(r[keep]) + np.abs(M[keep]).sum(axis=1) * xi
+        with np.errstate(over="ignore", invalid="ignore"):
+            v = max(v, np.max(res / np.maximum(scale, 1e-300), initial=0.0))
+    return v
+
+
+def test_never_optimal_with_a_bad_solution():
+    """Issue 12: bounds of -1e308 and a denormal H returned OPTIMAL with x = -inf. Now any status
+    comes with a finite x, and OPTIMAL only with x meeting every constraint."""
+    H, g = np.eye(3), np.ones(3)
+    cases = {
+        "d = -1e308": dict(H=H, g=g, C=np.eye(3)[:1], d=[-1e308]),
+        "denormal H": dict(H=5e-324 * np.eye(3), g=g),
+        "tiny H, x overflows": dict(H=1e-300 * np.eye(3), g=1e10 * g),
+        "g = 1e308": dict(H=H, g=1e308 * g),
+        "ub = -1e308": dict(H=H, g=g, ub=[-1e308, 0.0, 0.0]),
+        "C = 1e200": dict(H=H, g=g, C=np.full((1, 3), 1e200), d=[-1e200]),
+        "b_eq = 1e308": dict(H=H, g=g, A_eq=np.ones((1, 3)), b_eq=[1e308]),
+        "lb = 1e308": dict(H=H, g=g, lb=[1e308, -np.inf, -np.inf]),
+    }
+    for name, kw in cases.items():
+        res = kl.qp.solve(**kw)
+        assert np.all(np.isfinite(res.x)), name
+        assert np.isfinite(res.objective), name
+        if res.status == QpStatus.OPTIMAL:
+            assert _violation_scaled(kw, res.x) <= 1e-8, name
+    assert kl.qp.solve(**cases["d = -1e308"]).status != QpStatus.OPTIMAL
+    assert kl.qp.solve(**cases["denormal H"]).status == QpStatus.BAD_INPUT
+    assert kl.qp.solve(**cases["tiny H, x overflows"]).status == QpStatus.NUMERICAL_ERROR
+
+
+def test_extreme_values_mixed_into_random_problems():
+    """Random feasible problems with one entry replaced by an extreme value: never OPTIMAL with a
+    non-finite or violating x."""
+    seed = 12
+    print(f"seed {seed}: 3000 problems with an extreme entry")
+    rng = np.random.default_rng(seed)
+    extremes = [np.nan, np.inf, -np.inf, 1e308, -1e308, 5e-324, -5e-324, 1e200, -1e200, 0.0]
+    optimal = 0
+    for i, p in enumerate(_batch(rng, 3000, 6, 1, 8, True)):
+        key = ["H", "g", "A_eq", "b_eq", "C", "d", "lb", "ub"][i % 8]
+        arr = np.array(p[key], dtype=float)
+        idx = tuple(rng.integers(0, s) for s in arr.shape)
+        arr[idx] = extremes[rng.integers(len(extremes))]
+        if key == "H":  # keep H symmetric so that the extreme value is what is tested
+            arr[idx[::-1]] = arr[idx]
+        p[key] = arr
+        res = kl.qp.solve(**p)
+        tag = f"seed {seed} problem {i}: {key}{idx} = {arr[idx]}"
+        assert np.all(np.isfinite(res.x)), tag
+        assert np.isfinite(res.objective), tag
+        if res.status == QpStatus.OPTIMAL:
+            optimal += 1
+            assert _violation_scaled(p, res.x) <= 1e-8, tag
+            for lo, x in ((p["lb"], res.x), (-p["ub"], -res.x)):
+                keep = np.isfinite(lo)
+                assert np.all(x[keep] - lo[keep] >= -1e-8 * (np.abs(lo[keep]) + np.abs(x).max())), tag
+    print(f"  optimal: {optimal} of 3000")
+    assert optimal > 1000
 
 
 def test_wrong_shapes_and_dtypes_raise_value_error():

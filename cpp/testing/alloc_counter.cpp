@@ -4,14 +4,17 @@
 #include <cstdlib>
 #include <new>
 
-// glibc's real allocator entry points, so our interposers can forward without recursion.
-extern "C" {
-void* __libc_malloc(std::size_t);
-void* __libc_calloc(std::size_t, std::size_t);
-void* __libc_realloc(void*, std::size_t);
-void* __libc_memalign(std::size_t, std::size_t);
-void __libc_free(void*);
-}
+// Under AddressSanitizer the allocator belongs to ASan: interposing malloc (forwarding to glibc's
+// __libc_malloc) hands ASan memory it never allocated and the process crashes before main. There
+// the count comes from ASan's own allocation hook instead, which sees malloc, calloc, realloc,
+// the aligned variants and operator new alike; nothing is interposed.
+#if defined(__SANITIZE_ADDRESS__)
+#define KILOLOOP_ALLOC_COUNTER_ASAN 1
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer)
+#define KILOLOOP_ALLOC_COUNTER_ASAN 1
+#endif
+#endif
 
 namespace {
 std::atomic<std::size_t> g_allocations{0};
@@ -20,7 +23,38 @@ inline void count() noexcept { g_allocations.fetch_add(1, std::memory_order_rela
 
 namespace kiloloop::testing {
 std::size_t allocation_count() noexcept { return g_allocations.load(std::memory_order_relaxed); }
+bool allocation_counter_uses_sanitizer_hook() noexcept {
+#ifdef KILOLOOP_ALLOC_COUNTER_ASAN
+  return true;
+#else
+  return false;
+#endif
+}
 }  // namespace kiloloop::testing
+
+#ifdef KILOLOOP_ALLOC_COUNTER_ASAN
+
+// sanitizer/allocator_interface.h (not shipped with every compiler's headers).
+extern "C" int __sanitizer_install_malloc_and_free_hooks(
+    void (*malloc_hook)(const volatile void*, std::size_t), void (*free_hook)(const volatile void*));
+
+namespace {
+void on_malloc(const volatile void*, std::size_t) { count(); }
+void on_free(const volatile void*) {}
+// Installed before main (static initialization of this translation unit).
+const int g_hooks_installed = __sanitizer_install_malloc_and_free_hooks(on_malloc, on_free);
+}  // namespace
+
+#else  // the malloc-level interposer
+
+// glibc's real allocator entry points, so our interposers can forward without recursion.
+extern "C" {
+void* __libc_malloc(std::size_t);
+void* __libc_calloc(std::size_t, std::size_t);
+void* __libc_realloc(void*, std::size_t);
+void* __libc_memalign(std::size_t, std::size_t);
+void __libc_free(void*);
+}
 
 extern "C" {
 void* malloc(std::size_t n) {
@@ -71,3 +105,5 @@ void operator delete(void* p) noexcept { std::free(p); }
 void operator delete[](void* p) noexcept { std::free(p); }
 void operator delete(void* p, std::size_t) noexcept { std::free(p); }
 void operator delete[](void* p, std::size_t) noexcept { std::free(p); }
+
+#endif  // KILOLOOP_ALLOC_COUNTER_ASAN

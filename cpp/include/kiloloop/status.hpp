@@ -3,6 +3,9 @@
 //   0   ok
 //   > 0 degraded but usable: the output is valid, something was limited or clamped
 //   < 0 failure: the output is a safe fallback (hold or zero), never NaN
+#include <array>
+#include <cstdint>
+
 namespace kiloloop {
 
 enum class Status : int {
@@ -42,5 +45,39 @@ inline constexpr Status worst(Status a, Status b) noexcept {
 
 // A short, stable, lower-case name ("ok", "saturated", ...); never allocates.
 const char* to_string(Status s) noexcept;
+
+// The range of Status codes; every enumerator lies in [kMinStatus, kMaxStatus].
+inline constexpr int kMinStatus = static_cast<int>(Status::kEmergencyStop);
+inline constexpr int kMaxStatus = static_cast<int>(Status::kNearSingularity);
+
+// How many steps returned each Status, since configure (or reset): the one counter struct of
+// every controller's step. record() is called once per step with the status the step returned,
+// so the counts add up to ticks. A code outside the enum's range is counted in ticks only.
+struct StatusCounters {
+  std::uint64_t ticks = 0;
+  std::array<std::uint64_t, kMaxStatus - kMinStatus + 1> by_status{};  // index: code - kMinStatus
+
+  void record(Status s) noexcept {
+    ++ticks;
+    const int i = static_cast<int>(s) - kMinStatus;
+    if (i >= 0 && i < static_cast<int>(by_status.size())) ++by_status[i];
+  }
+  std::uint64_t count(Status s) const noexcept {
+    const int i = static_cast<int>(s) - kMinStatus;
+    return i >= 0 && i < static_cast<int>(by_status.size()) ? by_status[i] : 0;
+  }
+  // Steps that failed (status < 0) and that were degraded (status > 0).
+  std::uint64_t failures() const noexcept {
+    std::uint64_t sum = 0;
+    for (int c = kMinStatus; c < 0; ++c) sum += by_status[c - kMinStatus];
+    return sum;
+  }
+  std::uint64_t degraded() const noexcept {
+    std::uint64_t sum = 0;
+    for (int c = 1; c <= kMaxStatus; ++c) sum += by_status[c - kMinStatus];
+    return sum;
+  }
+  void reset() noexcept { *this = StatusCounters{}; }
+};
 
 }  // namespace kiloloop

@@ -48,6 +48,8 @@ Status CartesianTrackingController::configure(const CartesianTrackingConfig& con
   c.joint_out_ = make_joint_output(c.nq_);
   c.q_r_ = c.qd_r_ = c.qd_prev_ = Eigen::VectorXd::Zero(c.nq_);
   c.J_ = Eigen::MatrixXd::Zero(6, c.nq_);
+  // An LDLT that never computed has no info value: moving it is undefined (UBSan).
+  c.ldlt_.compute(Eigen::Matrix<double, 6, 6>::Identity());
   *out = std::move(c);
   return Status::kOk;
 }
@@ -67,6 +69,13 @@ CartesianTrackingOutput CartesianTrackingController::make_output() const {
 Status CartesianTrackingController::step(const CartesianTrackingInput& in,
                                          CartesianTrackingOutput& out) noexcept {
   if (nq_ == 0) return out.status = Status::kNotConfigured;
+  const Status s = run(in, out);
+  counters_.record(s);
+  return s;
+}
+
+Status CartesianTrackingController::run(const CartesianTrackingInput& in,
+                                        CartesianTrackingOutput& out) noexcept {
   if (out.tau.size() != nq_ || out.q_ref.size() != nq_ || out.qd_ref.size() != nq_ ||
       out.qdd_ref.size() != nq_)
     return out.status = Status::kBadSize;  // nowhere safe to write
@@ -142,12 +151,19 @@ Status CartesianTrackingController::step(const CartesianTrackingInput& in,
   out.q_ref = j.q_ref;
   out.qd_ref = j.qd_ref;
   out.qdd_ref = j.qdd_ref;
-  const Status js = joint_.step(j, joint_out_);
+  Status js = joint_.step(j, joint_out_);
+  // A wrong-size measurement reached the joint controller as NaN (its q cannot be resized here).
+  if (js == Status::kNonFiniteMeasurement && (in.q.size() != nq_ || in.qd.size() != nq_))
+    js = Status::kBadSize;
   out.tau = joint_out_.tau;
   // Integrate the reference for the next tick (only while tracking a valid reference).
   if (started_) {
     q_r_ = (q_r_ + qd_r_ * config_.dt).cwiseMax(lower_).cwiseMin(upper_);
     qd_prev_ = qd_r_;
+    if (!q_r_.allFinite()) {  // restart from the next valid measurement; finite until then
+      q_r_ = Eigen::VectorXd::Zero(nq_).cwiseMax(lower_).cwiseMin(upper_);
+      started_ = false;
+    }
   }
   return out.status = worst(ik, js);
 }

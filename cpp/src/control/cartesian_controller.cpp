@@ -48,11 +48,14 @@ Status CartesianTorqueController::configure_common(const CartesianCommonConfig& 
   J_ = Eigen::MatrixXd::Zero(6, n);
   M_ = Eigen::MatrixXd::Identity(n, n);
   MinvJt_ = Eigen::MatrixXd::Zero(n, 6);
-  M_ldlt_ = Eigen::LDLT<Eigen::MatrixXd>(n);
-  M_ldlt_.compute(M_);  // sizes its internal storage once
+  // Eigen's LDLT leaves its info field unset until compute(): moving one that never computed
+  // reads it (UBSan: invalid enum load). Computing both here also sizes M_ldlt_'s storage once.
+  M_ldlt_.compute(M_);
+  A_ldlt_.compute(Eigen::Matrix<double, 6, 6>::Identity());
   h_ = zero_ = last_valid_q_ = Eigen::VectorXd::Zero(n);
   has_valid_q_ = has_last_t_ = false;
-  counters_ = CartesianCounters{};
+  gate_ = MeasurementGate(c.max_measurement_age);
+  counters_ = StatusCounters{};
   configured_ = true;
   return Status::kOk;
 }
@@ -91,14 +94,7 @@ Status CartesianTorqueController::hold(Status why, Eigen::Ref<Eigen::VectorXd> t
 }
 
 Status CartesianTorqueController::saturate(Status s, Eigen::Ref<Eigen::VectorXd> tau) const noexcept {
-  const Eigen::VectorXd& effort = dyn_.model().effort_limit();
-  bool clipped = false;
-  for (int i = 0; i < tau.size(); ++i) {
-    const double limited = std::fmin(std::fmax(tau[i], -effort[i]), effort[i]);
-    clipped |= limited != tau[i];
-    tau[i] = limited;
-  }
-  return clipped ? worst(s, Status::kSaturated) : s;
+  return clip_effort(s, tau, dyn_.model().effort_limit());
 }
 
 Status CartesianTorqueController::step(const CartesianControlInput& in,
@@ -110,12 +106,12 @@ Status CartesianTorqueController::step(const CartesianControlInput& in,
     s = Status::kBadSize;  // nowhere safe to write: report only
   } else if (in.q.size() != n || in.qd.size() != n) {
     s = hold(Status::kBadSize, out.tau);
-  } else if (!in.q.allFinite() || !in.qd.allFinite() || !std::isfinite(in.t) ||
-             !std::isfinite(in.stamp)) {
+  } else if (!in.q.allFinite() || !in.qd.allFinite()) {
     s = hold(Status::kNonFiniteMeasurement, out.tau);
-  } else if (std::fabs(in.t - in.stamp) > common_.max_measurement_age) {
-    s = hold(Status::kStaleMeasurement, out.tau);  // old, or from the future
+  } else if (const Status age = gate_.check(in.t, in.stamp); failed(age)) {
+    s = hold(age, out.tau);  // old, from the future, or older than one already used
   } else {
+    gate_.accept(in.stamp);
     last_valid_q_ = in.q;
     has_valid_q_ = true;
     if (!in.p_ref.allFinite() || !is_rotation(in.R_ref) || !in.twist_ref.allFinite() ||
@@ -137,9 +133,13 @@ Status CartesianTorqueController::step(const CartesianControlInput& in,
       } else {
         out.tau.noalias() = J_.transpose() * F;
         out.tau += h_;
-        out.pose_error = e_;
-        out.wrench_command = F;
-        s = saturate(l, out.tau);
+        if (!out.tau.allFinite()) {
+          s = hold(Status::kSolverFailed, out.tau);  // a finite wrench whose torque overflows
+        } else {
+          out.pose_error = e_;
+          out.wrench_command = F;
+          s = saturate(l, out.tau);
+        }
       }
       last_t_ = in.t;
       has_last_t_ = true;

@@ -186,8 +186,8 @@ void expect_bad_input_policy(Controller& c, const RobotModelPtr& model) {
   bad.p_ref.x() += 5.0;  // far away: the spring asks for more than the motors have
   EXPECT_EQ(c.step(bad, out), Status::kSaturated);
   EXPECT_TRUE(((out.tau.cwiseAbs() - model->effort_limit()).array() <= 0.0).all());
-  EXPECT_GT(c.counters().non_finite_measurement, 0u);
-  EXPECT_GT(c.counters().non_finite_reference, 0u);
+  EXPECT_GT(c.counters().count(Status::kNonFiniteMeasurement), 0u);
+  EXPECT_GT(c.counters().count(Status::kNonFiniteReference), 0u);
 }
 
 TEST(CartesianControllers, BadInputPolicy) {

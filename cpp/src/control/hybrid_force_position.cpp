@@ -62,8 +62,11 @@ Status HybridForcePositionController::law(const CartesianControlInput& in, Vecto
     } else {
       a_m[i] = 0.0;
       const double err = f_ref[i] - f[i];
-      integral_[i] = std::fmin(std::fmax(integral_[i] + c.ki[i] * err * dt_, -c.integral_limit),
-                               c.integral_limit);
+      // An increment that overflows (huge forces) is skipped: clamping a NaN would pick a limit.
+      const double increment = c.ki[i] * err * dt_;
+      if (std::isfinite(increment))
+        integral_[i] = std::fmin(std::fmax(integral_[i] + increment, -c.integral_limit),
+                                 c.integral_limit);
       f_cmd[i] = f_ref[i] + c.kf[i] * err + integral_[i] - c.kv[i] * v[i];
     }
   }

@@ -138,8 +138,8 @@ void expect_bad_input_policy(Controller& c, const RobotModelPtr& model) {
   const Status s = c.step(bad, out);
   EXPECT_TRUE(s == Status::kReferenceClamped || s == Status::kSaturated) << to_string(s);
   EXPECT_LE((out.tau.cwiseAbs() - model->effort_limit()).maxCoeff(), 0.0);
-  EXPECT_GT(c.counters().non_finite_measurement, 0u);
-  EXPECT_GT(c.counters().stale_measurement, 0u);
+  EXPECT_GT(c.counters().count(Status::kNonFiniteMeasurement), 0u);
+  EXPECT_GT(c.counters().count(Status::kStaleMeasurement), 0u);
 }
 
 TEST(ComputedTorque, BadInputPolicy) {

@@ -1,5 +1,7 @@
 #include "kiloloop/control/joint_torque_controller.hpp"
 
+#include "kiloloop/control/rules.hpp"
+
 namespace kiloloop {
 
 Status JointTorqueController::configure_common(const Eigen::VectorXd& kp, const Eigen::VectorXd& kd,
@@ -17,12 +19,19 @@ Status JointTorqueController::configure_common(const Eigen::VectorXd& kp, const 
   if (failed(s)) return s;
   s = Dynamics::configure(model, gravity, &dyn_, why);
   if (failed(s)) return s;
-  expand_gains(kp, model->nq(), &kp_);
-  expand_gains(kd, model->nq(), &kd_);
+  broadcast_gains(kp, model->nq(), &kp_);
+  broadcast_gains(kd, model->nq(), &kd_);
   guard_.configure(*model, max_measurement_age);
-  counters_ = StepCounters{};
+  counters_ = StatusCounters{};
   configured_ = true;
   return Status::kOk;
+}
+
+Status JointTorqueController::law_with_friction(const JointControlInput& in,
+                                               Eigen::Ref<Eigen::VectorXd> tau) noexcept {
+  const Status l = law(in, guard_.clamped_q_ref(), tau);
+  if (!failed(l)) friction_.add(in.qd_ref, tau);  // plus the friction it must overcome
+  return l;
 }
 
 Status JointTorqueController::step(const JointControlInput& in, JointControlOutput& out) noexcept {
@@ -34,10 +43,12 @@ Status JointTorqueController::step(const JointControlInput& in, JointControlOutp
     s = guard_.hold(dyn_, m, out.tau);
   } else if (const Status r = guard_.check_reference(in); failed(r)) {
     s = guard_.damped_stop(dyn_, kd_, in, r, out.tau);
-  } else if (const Status l = law(in, guard_.clamped_q_ref(), out.tau); failed(l)) {
+  } else if (const Status l = law_with_friction(in, out.tau); failed(l)) {
     s = guard_.hold(dyn_, l, out.tau);
+  } else if (!out.tau.allFinite()) {
+    // Finite inputs whose torque overflows (huge references or velocities): no usable law.
+    s = guard_.hold(dyn_, Status::kSolverFailed, out.tau);
   } else {
-    friction_.add(in.qd_ref, out.tau);  // the law's torque plus the friction it must overcome
     s = guard_.saturate(worst(r, l), out.tau);
   }
   counters_.record(s);

@@ -1,6 +1,7 @@
 #include "kiloloop/qp/dense_qp.hpp"
 
 #include <algorithm>
+#include <cfloat>
 #include <cmath>
 #include <limits>
 
@@ -18,6 +19,11 @@ constexpr double kSymmetryTol = 1e-9;
 // A dependent constraint that cannot enter is skipped when violated by less than this many
 // feasibility tolerances (rounding at a degenerate vertex), infeasible beyond.
 constexpr double kDependentSlackFactor = 1e3;
+// The result check accepts a constraint violated by up to this many feasibility tolerances
+// (above kDependentSlackFactor: a skipped dependent constraint may use that much), with the
+// tolerance floored at kCheckTolFloor so that feasibility_tol = 0 still leaves room for rounding.
+constexpr double kCheckFactor = 1e4;
+constexpr double kCheckTolFloor = 1e-12;
 
 // Givens rotation (c, s) with [c s; -s c] [a; b] = [h; 0], h = |(a, b)| >= 0, overflow-safe.
 inline double givens(double a, double b, double* c, double* s) {
@@ -86,7 +92,11 @@ inline double row_dot(const double* M, int ld, int i, const double* x, int n) {
   return sum;
 }
 
-// Row norms (1 and 2) of an (m, n) column-major matrix; false if an entry is not finite.
+// Row norms (1 and 2) of an (m, n) column-major matrix; false if an entry is not finite or a
+// 1-norm overflows. A 2-norm whose sum of squares overflows (entries beyond ~1e154) or underflows
+// (all entries below ~1e-154) is recomputed scaled by the row's largest entry: the norm itself is
+// representable, and a 0 or inf there would make a violated row look infinitely or not at all
+// violated.
 bool row_norms(const double* M, int ld, int m, int n, double* norm1, double* norm2) {
   for (int i = 0; i < m; ++i) norm1[i] = norm2[i] = 0.0;
   for (int j = 0; j < n; ++j) {
@@ -99,7 +109,19 @@ bool row_norms(const double* M, int ld, int m, int n, double* norm1, double* nor
   }
   for (int i = 0; i < m; ++i) {
     if (!std::isfinite(norm1[i])) return false;  // |NaN| and |inf| propagate into the sum
-    norm2[i] = std::sqrt(norm2[i]);
+    if (norm2[i] >= DBL_MIN && norm2[i] <= DBL_MAX) {
+      norm2[i] = std::sqrt(norm2[i]);
+      continue;
+    }
+    double big = 0.0;
+    for (int j = 0; j < n; ++j) big = std::max(big, std::abs(M[i + j * ld]));
+    double sum = 0.0;
+    if (big > 0.0)
+      for (int j = 0; j < n; ++j) {
+        const double v = M[i + j * ld] / big;
+        sum += v * v;
+      }
+    norm2[i] = big * std::sqrt(sum);
   }
   return true;
 }
@@ -110,11 +132,20 @@ bool all_finite(const double* v, int n) {
   return finite;
 }
 
-// No NaN and no entry equal to `forbidden` (an infinity of the wrong sign).
-bool no_nan_or(const double* v, int n, double forbidden) {
-  for (int i = 0; i < n; ++i)
-    if (std::isnan(v[i]) || v[i] == forbidden) return false;
-  return true;
+// Bounds: NaN is bad data; an infinity of the `absent` sign drops the bound, one of the other
+// sign can never be met.
+QpStatus check_bounds(const double* v, int n, double absent) {
+  for (int i = 0; i < n; ++i) {
+    if (std::isnan(v[i])) return QpStatus::kBadInput;
+    if (std::isinf(v[i]) && v[i] != absent) return QpStatus::kInfeasible;
+  }
+  return QpStatus::kOptimal;
+}
+
+// |v| with entries below DBL_MIN (denormals) taken as 0: such a scale is numerically nothing.
+inline double magnitude(double v) {
+  const double a = std::abs(v);
+  return a < DBL_MIN ? 0.0 : a;
 }
 
 }  // namespace
@@ -126,6 +157,7 @@ const char* to_string(QpStatus s) noexcept {
     case QpStatus::kInfeasible: return "infeasible";
     case QpStatus::kBadInput: return "bad_input";
     case QpStatus::kNotConfigured: return "not_configured";
+    case QpStatus::kNumericalError: return "numerical_error";
   }
   return "unknown";
 }
@@ -211,25 +243,33 @@ void DenseQpSolver::reset_warm_start() noexcept {
   warm_n_ = warm_me_ = warm_mi_ = -1;
 }
 
-// Finite data (d may hold +inf, lb -inf, ub +inf), H symmetric; fills the row norms.
-bool DenseQpSolver::valid_values(const Problem& p) noexcept {
+// Finite H, g, A_eq, b_eq, C and row sums that do not overflow; H symmetric; d may hold +inf
+// (absent) and -inf (never met), lb -inf / +inf and ub +inf / -inf likewise. Fills the row norms.
+QpStatus DenseQpSolver::check_values(const Problem& p) noexcept {
   const int n = p.n;
+  for (int j = 0; j < n; ++j)
+    if (!all_finite(p.H + j * p.ldh, n)) return QpStatus::kBadInput;
   // H symmetric to a fraction of its largest diagonal entry, which bounds every entry of a
-  // positive definite matrix. This also rejects a NaN or inf above the diagonal; one on or below it
-  // fails the Cholesky factorization.
+  // positive definite matrix.
   double max_diag = 0.0;
-  for (int j = 0; j < n; ++j) max_diag = std::max(max_diag, std::abs(p.H[j + j * p.ldh]));
+  for (int j = 0; j < n; ++j) max_diag = std::max(max_diag, magnitude(p.H[j + j * p.ldh]));
   const double sym_tol = kSymmetryTol * max_diag;
   for (int j = 0; j < n; ++j)
     for (int i = j + 1; i < n; ++i)
-      if (!(std::abs(p.H[i + j * p.ldh] - p.H[j + i * p.ldh]) <= sym_tol)) return false;
-  if (!all_finite(p.g, n) || !all_finite(p.b, p.me)) return false;
-  if (!row_norms(p.A, p.lda, p.me, n, norm1_.data(), norm2_.data())) return false;
-  if (!row_norms(p.C, p.ldc, p.mi, n, norm1_.data() + p.me, norm2_.data() + p.me)) return false;
-  if (!no_nan_or(p.d, p.mi, -kInf)) return false;
-  if (p.lb && !no_nan_or(p.lb, n, kInf)) return false;
-  if (p.ub && !no_nan_or(p.ub, n, -kInf)) return false;
-  return true;
+      if (!(std::abs(p.H[i + j * p.ldh] - p.H[j + i * p.ldh]) <= sym_tol)) return QpStatus::kBadInput;
+  if (!all_finite(p.g, n) || !all_finite(p.b, p.me)) return QpStatus::kBadInput;
+  if (!row_norms(p.A, p.lda, p.me, n, norm1_.data(), norm2_.data())) return QpStatus::kBadInput;
+  if (!row_norms(p.C, p.ldc, p.mi, n, norm1_.data() + p.me, norm2_.data() + p.me))
+    return QpStatus::kBadInput;
+  // NaN anywhere is bad data before an impossible bound is infeasible.
+  const QpStatus sd = check_bounds(p.d, p.mi, kInf);
+  const QpStatus sl = p.lb ? check_bounds(p.lb, n, -kInf) : QpStatus::kOptimal;
+  const QpStatus su = p.ub ? check_bounds(p.ub, n, kInf) : QpStatus::kOptimal;
+  if (sd == QpStatus::kBadInput || sl == QpStatus::kBadInput || su == QpStatus::kBadInput)
+    return QpStatus::kBadInput;
+  if (sd != QpStatus::kOptimal || sl != QpStatus::kOptimal || su != QpStatus::kOptimal)
+    return QpStatus::kInfeasible;
+  return QpStatus::kOptimal;
 }
 
 // The problem in the free variables (lb < ub): H restricted to them, g + H(free, fixed) x_fixed,
@@ -284,14 +324,17 @@ bool DenseQpSolver::factorize(const Problem& p) noexcept {
   double* J = J_.data();
   double* w = tmp_.data();
   double* inv_diag = z_.data();  // scratch until the first constraint is added
+  // Diagonal entries below DBL_MIN count as 0 (a denormal H is numerically zero), and no pivot
+  // may be below DBL_MIN: 1/sqrt of it would overflow J and x.
   double max_diag = 0.0;
   for (int j = 0; j < n; ++j) max_diag = std::max(max_diag, p.H[j + j * p.ldh]);
-  if (!(max_diag > 0.0)) return false;
+  if (!(max_diag >= DBL_MIN)) return false;
+  const double min_pivot = std::max(kPivotTol * max_diag, DBL_MIN);
   for (int j = 0; j < n; ++j) {
     // w = H(j:n, j) - L(j:n, 0:j) L(j, 0:j)'
     for (int i = j; i < n; ++i) w[i] = p.H[i + j * p.ldh];
     for (int k = 0; k < j; ++k) axpy(w + j, L + k * ld + j, -L[j + k * ld], n - j);
-    if (!(w[j] > kPivotTol * max_diag)) return false;
+    if (!(w[j] > min_pivot)) return false;
     const double ljj = std::sqrt(w[j]);
     const double inv = 1.0 / ljj;
     inv_diag[j] = inv;
@@ -604,12 +647,15 @@ QpResult DenseQpSolver::solve(const MatRef& H, const VecRef& g, const MatRef& A_
   if (n_max_ == 0) return res;  // kNotConfigured
   const int n = static_cast<int>(H.rows());
   const int me = static_cast<int>(A_eq.rows()), mi = static_cast<int>(C.rows());
-  auto bad_input = [&]() {
+  // Rejected before the solve: x zeroed (when its size is right), no multipliers.
+  auto reject = [&](QpStatus status) {
     if (x.size() == H.rows()) x.setZero();
     last_n_ = last_me_ = last_mi_ = 0;
-    res.status = QpStatus::kBadInput;
+    reset_warm_start();
+    res.status = status;
     return res;
   };
+  auto bad_input = [&]() { return reject(QpStatus::kBadInput); };
   // Sizes against the workspace and each other.
   if (n < 1 || n > n_max_ || H.cols() != n || g.size() != n || x.size() != n) return bad_input();
   if (me > me_max_ || (me > 0 && A_eq.cols() != n) || b_eq.size() != me) return bad_input();
@@ -624,7 +670,7 @@ QpResult DenseQpSolver::solve(const MatRef& H, const VecRef& g, const MatRef& A_
                      ub.size() == n ? ub.data() : nullptr,
                      n,          me,
                      mi};
-  if (!valid_values(full)) return bad_input();
+  if (const QpStatus v = check_values(full); v != QpStatus::kOptimal) return reject(v);
   // Fixed variables (lb == ub) are eliminated unless all are fixed; then they are equalities.
   int n_fixed = 0;
   if (full.lb && full.ub)
@@ -665,6 +711,7 @@ QpResult DenseQpSolver::solve(const MatRef& H, const VecRef& g, const MatRef& A_
   auto stop = [&](AddResult r) {
     res.status = r == AddResult::kInfeasible ? QpStatus::kInfeasible : QpStatus::kIterationLimit;
     finish(full, p, &res);
+    sanitize_result(full, &res);
     x = xf_.head(n);
     return res;
   };
@@ -703,8 +750,72 @@ QpResult DenseQpSolver::solve(const MatRef& H, const VecRef& g, const MatRef& A_
   }
   res.status = QpStatus::kOptimal;
   finish(full, p, &res);
+  sanitize_result(full, &res);
   x = xf_.head(n);
   return res;
+}
+
+// The solver never claims more than it delivered: an optimum must pass verified(); any result
+// has a finite x (zeros replace a non-finite iterate), objective and multipliers.
+void DenseQpSolver::sanitize_result(const Problem& full, QpResult* res) noexcept {
+  const int n = full.n;
+  const bool x_finite = all_finite(xf_.data(), n);
+  const bool mult_finite = all_finite(eq_mult_.data(), last_me_) &&
+                           all_finite(ineq_mult_.data(), last_mi_) &&
+                           all_finite(bound_mult_.data(), last_n_);
+  const bool finite = x_finite && mult_finite && std::isfinite(res->objective);
+  if (res->status == QpStatus::kOptimal && finite && verified(full)) return;
+  if (res->status == QpStatus::kOptimal || !finite) {
+    res->status = QpStatus::kNumericalError;
+    reset_warm_start();  // do not start the next solve from an active set that failed the check
+  }
+  if (!x_finite) xf_.head(n).setZero();
+  if (!mult_finite) {
+    eq_mult_.head(last_me_).setZero();
+    ineq_mult_.head(last_mi_).setZero();
+    bound_mult_.head(last_n_).setZero();
+  }
+  if (!std::isfinite(res->objective) || !x_finite) {
+    // Objective of the x actually returned; 0 if even that overflows.
+    const double* xv = xf_.data();
+    double* hx = tmp_.data();
+    for (int i = 0; i < n; ++i) hx[i] = 0.0;
+    for (int j = 0; j < n; ++j) axpy(hx, full.H + j * full.ldh, xv[j], n);
+    const double f = 0.5 * dot(xv, hx, n) + dot(full.g, xv, n);
+    res->objective = std::isfinite(f) ? f : 0.0;
+  }
+}
+
+// Every constraint of the full problem met at xf_ to kCheckFactor feasibility tolerances of the
+// size of its terms; a tolerance or residual that is not finite fails.
+bool DenseQpSolver::verified(const Problem& full) const noexcept {
+  const int n = full.n;
+  const double* x = xf_.data();
+  const double tol = kCheckFactor * std::max(settings_.feasibility_tol, kCheckTolFloor);
+  double xi = 0.0;
+  for (int j = 0; j < n; ++j) xi = std::max(xi, std::abs(x[j]));
+  for (int i = 0; i < full.me; ++i) {
+    const double r = std::abs(row_dot(full.A, full.lda, i, x, n) - full.b[i]);
+    const double t = tol * (std::abs(full.b[i]) + norm1_[i] * xi);
+    if (!(r <= t) || !std::isfinite(t)) return false;
+  }
+  for (int i = 0; i < full.mi; ++i) {
+    if (full.d[i] == kInf) continue;  // absent row
+    const double r = row_dot(full.C, full.ldc, i, x, n) - full.d[i];
+    const double t = tol * (std::abs(full.d[i]) + norm1_[full.me + i] * xi);
+    if (!(r <= t) || !std::isfinite(t)) return false;
+  }
+  for (int j = 0; j < n; ++j) {
+    if (full.lb && full.lb[j] != -kInf) {
+      const double t = tol * (std::abs(full.lb[j]) + xi);
+      if (!(full.lb[j] - x[j] <= t) || !std::isfinite(t)) return false;
+    }
+    if (full.ub && full.ub[j] != kInf) {
+      const double t = tol * (std::abs(full.ub[j]) + xi);
+      if (!(x[j] - full.ub[j] <= t) || !std::isfinite(t)) return false;
+    }
+  }
+  return true;
 }
 
 }  // namespace kiloloop::qp

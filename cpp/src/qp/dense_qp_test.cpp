@@ -392,14 +392,19 @@ TEST(DenseQp, BadInputIsReportedNotCrashed) {
   EXPECT_EQ(status(bad), QpStatus::kBadInput);
   bad = empty_qp(3);
   bad.C = Eigen::MatrixXd::Ones(1, 3);
-  bad.d = Eigen::VectorXd::Constant(1, -kInf);
-  EXPECT_EQ(status(bad), QpStatus::kBadInput);
+  bad.d = Eigen::VectorXd::Constant(1, -kInf);  // C x <= -inf can never be met
+  EXPECT_EQ(status(bad), QpStatus::kInfeasible);
   bad.d[0] = kInf;  // +inf: the row is ignored
   EXPECT_EQ(status(bad), QpStatus::kOptimal);
   bad.C(0, 1) = std::nan("");
   EXPECT_EQ(status(bad), QpStatus::kBadInput);
   bad = empty_qp(3);
-  bad.lb = Eigen::VectorXd::Constant(3, kInf);
+  bad.lb = Eigen::VectorXd::Constant(3, kInf);  // x >= +inf can never be met
+  EXPECT_EQ(status(bad), QpStatus::kInfeasible);
+  bad.lb = Eigen::VectorXd::Constant(3, std::nan(""));  // NaN is bad data, not a bound
+  EXPECT_EQ(status(bad), QpStatus::kBadInput);
+  bad = empty_qp(3);
+  bad.H(0, 2) = bad.H(2, 0) = kInf;  // inf off the diagonal, symmetric
   EXPECT_EQ(status(bad), QpStatus::kBadInput);
   bad = empty_qp(3);
   bad.H(2, 2) = -1.0;  // indefinite
@@ -420,6 +425,65 @@ TEST(DenseQp, BadInputIsReportedNotCrashed) {
             QpStatus::kBadInput);
   EXPECT_EQ(x, Eigen::VectorXd::Zero(3));
   EXPECT_EQ(solver.eq_multipliers().size(), 0);
+}
+
+// The data of issue 12 and its relatives at the edge of double range: never kOptimal with a
+// non-finite or constraint-violating x; x always finite.
+TEST(DenseQp, NeverClaimsOptimalWithABadSolution) {
+  DenseQpSolver solver = make_solver(3, 1, 2);
+  const double denormal = 4.9e-324, huge = 1e308;
+  auto check = [&](const Qp& qp, const char* what) {
+    const Solution s = solve(solver, qp);
+    EXPECT_TRUE(s.x.allFinite()) << what;
+    EXPECT_TRUE(std::isfinite(s.res.objective)) << what;
+    EXPECT_TRUE(s.lambda.allFinite() && s.mu.allFinite() && s.z.allFinite()) << what;
+    if (s.res.status == QpStatus::kOptimal) {
+      const double xi = s.x.cwiseAbs().maxCoeff();
+      if (qp.C.rows() > 0)
+        EXPECT_LE(((qp.C * s.x - qp.d).array()).maxCoeff(), 1e-8 * (qp.d.cwiseAbs().maxCoeff() + 3 * xi)) << what;
+      if (qp.lb.size() > 0) EXPECT_TRUE((s.x.array() >= qp.lb.array() - 1e-8 * (1 + xi)).all()) << what;
+      if (qp.ub.size() > 0) EXPECT_TRUE((s.x.array() <= qp.ub.array() + 1e-8 * (1 + xi)).all()) << what;
+    }
+    return s.res.status;
+  };
+  Qp qp = empty_qp(3);
+  qp.C = Eigen::MatrixXd::Identity(1, 3);
+  qp.d = Eigen::VectorXd::Constant(1, -huge);  // x0 <= -1e308: the issue's bound
+  EXPECT_NE(check(qp, "d = -1e308"), QpStatus::kOptimal);
+  qp = empty_qp(3);
+  qp.H = denormal * Eigen::MatrixXd::Identity(3, 3);  // the issue's denormal Hessian
+  EXPECT_EQ(check(qp, "denormal H"), QpStatus::kBadInput);
+  qp = empty_qp(3);
+  qp.H = 1e-300 * Eigen::MatrixXd::Identity(3, 3);  // tiny but normal H: x = -g / 1e-300
+  qp.g = Eigen::Vector3d(1.0, -1.0, 1.0);
+  EXPECT_EQ(check(qp, "tiny H"), QpStatus::kOptimal);  // x = -+1e300: representable, correct
+  qp.g = Eigen::Vector3d(1e10, -1e10, 1e10);
+  EXPECT_EQ(check(qp, "tiny H, x overflows"), QpStatus::kNumericalError);
+  qp = empty_qp(3);
+  qp.g = Eigen::Vector3d(huge, -huge, huge);  // x = -g is fine, the objective overflows
+  EXPECT_NE(check(qp, "g = 1e308"), QpStatus::kOptimal);
+  qp = empty_qp(3);
+  qp.ub = Eigen::Vector3d(-huge, 0.0, 0.0);
+  qp.g = Eigen::Vector3d(1.0, 1.0, 1.0);
+  EXPECT_NE(check(qp, "ub = -1e308"), QpStatus::kOptimal);
+  qp = empty_qp(3);
+  qp.C = Eigen::MatrixXd::Constant(1, 3, 1e200);  // row norm^2 overflows: still selected
+  qp.d = Eigen::VectorXd::Constant(1, -1e200);
+  check(qp, "C = 1e200");
+  qp = empty_qp(3);
+  qp.C = Eigen::MatrixXd::Constant(1, 3, denormal);  // row norm^2 underflows
+  qp.d = Eigen::VectorXd::Constant(1, -1.0);
+  EXPECT_EQ(check(qp, "C denormal"), QpStatus::kInfeasible);
+  qp = empty_qp(3);
+  qp.A = Eigen::MatrixXd::Ones(1, 3);
+  qp.b = Eigen::VectorXd::Constant(1, huge);
+  check(qp, "b = 1e308");
+  qp = empty_qp(3);
+  qp.lb = Eigen::Vector3d(huge, -kInf, -kInf);
+  check(qp, "lb = 1e308");
+  qp = empty_qp(3);
+  qp.ub = Eigen::Vector3d(-kInf, kInf, kInf);
+  EXPECT_EQ(check(qp, "ub = -inf"), QpStatus::kInfeasible);
 }
 
 TEST(DenseQp, IterationLimitReturnsTheLastIterate) {

@@ -73,6 +73,7 @@ Status ArmSupervisor::configure(const ArmSupervisorConfig& config, RobotModelPtr
   a.thermal_ = a.qd_prev_ = a.qdd_filt_ = a.last_valid_q_ = a.last_valid_qd_ = Eigen::VectorXd::Zero(n);
   a.q_stop_ = a.qd_stop_ = a.q_ref_ = a.qd_ref_ = a.qdd_ref_ = a.v_ = Eigen::VectorXd::Zero(n);
   a.J_ = Eigen::MatrixXd::Zero(6, n);
+  a.gate_ = MeasurementGate(config.max_measurement_age);
   a.configured_ = true;
   *out = std::move(a);
   return Status::kOk;
@@ -142,37 +143,37 @@ Status ArmSupervisor::blind_torque(const SupervisorInput& in, Eigen::Ref<Eigen::
 }
 
 Status ArmSupervisor::clip(Status s, Eigen::Ref<Eigen::VectorXd> tau) noexcept {
-  bool clipped = false;
-  for (int j = 0; j < nq(); ++j) {
-    const double limited = std::fmin(std::fmax(tau[j], -effort_[j]), effort_[j]);
-    clipped |= limited != tau[j];
-    tau[j] = limited;
-  }
-  if (clipped) ++counters_.saturated;
-  return clipped ? worst(s, Status::kSaturated) : s;
+  const Status c = clip_effort(Status::kOk, tau, effort_);
+  if (c != Status::kOk) ++counters_.clipped;
+  return worst(s, c);
 }
 
 Status ArmSupervisor::step(const SupervisorInput& in, SupervisorOutput& out) noexcept {
   if (!configured_) return out.status = Status::kNotConfigured;
+  const Status s = run(in, out);
+  counters_.record(s);
+  return s;
+}
+
+Status ArmSupervisor::run(const SupervisorInput& in, SupervisorOutput& out) noexcept {
   const int n = nq();
   if (out.tau.size() != n || out.thermal.size() != n) return out.status = Status::kBadSize;
-  ++counters_.ticks;
   Status s = Status::kOk;
   // A measurement we cannot trust: hold against gravity where the arm last was; nothing else
   // can be checked this tick.
   const bool sizes_ok = in.q.size() == n && in.qd.size() == n;
   Status bad = Status::kOk;
   if (!sizes_ok) bad = Status::kBadSize;
-  else if (!in.q.allFinite() || !in.qd.allFinite() || !std::isfinite(in.t) || !std::isfinite(in.stamp))
-    bad = Status::kNonFiniteMeasurement;
-  else if (std::fabs(in.t - in.stamp) > config_.max_measurement_age) bad = Status::kStaleMeasurement;
+  else if (!in.q.allFinite() || !in.qd.allFinite()) bad = Status::kNonFiniteMeasurement;
+  else bad = gate_.check(in.t, in.stamp);
   if (bad != Status::kOk) {
-    ++counters_.bad_measurement;
     if (bad_ticks_ < config_.max_bad_ticks) ++bad_ticks_;  // saturates: no overflow in a long outage
     // A long outage is a fault of its own: stop now, from the last valid state carried forward at
     // its velocity (gravity compensation alone lets the arm coast) to this tick.
     if (bad_ticks_ >= config_.max_bad_ticks && has_valid_q_ && mode_ == SupervisorMode::kNormal) {
-      const double t = std::isfinite(in.t) && in.t > t_prev_ ? in.t : t_prev_;
+      // A time that jumped (beyond 1 s, as for dt below) is not trusted for the projection.
+      const double gap = std::isfinite(in.t) ? in.t - t_prev_ : 0.0;
+      const double t = gap > 0.0 && gap <= 1.0 ? in.t : t_prev_;
       q_ref_ = last_valid_q_ + (t - t_prev_) * last_valid_qd_;
       trip(Status::kStaleMeasurement, t, q_ref_, last_valid_qd_);
     }
@@ -188,6 +189,7 @@ Status ArmSupervisor::step(const SupervisorInput& in, SupervisorOutput& out) noe
     out.stop_time = stop_time_;
     return out.status = bad;
   }
+  gate_.accept(in.stamp);
   bad_ticks_ = 0;
   last_valid_q_ = in.q;
   last_valid_qd_ = in.qd;

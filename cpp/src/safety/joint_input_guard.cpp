@@ -6,7 +6,7 @@ namespace kiloloop {
 
 void JointInputGuard::configure(const RobotModel& model, double max_measurement_age) {
   nq_ = model.nq();
-  max_age_ = max_measurement_age;
+  gate_ = MeasurementGate(max_measurement_age);
   lower_ = model.lower();
   upper_ = model.upper();
   effort_ = model.effort_limit();
@@ -17,11 +17,9 @@ void JointInputGuard::configure(const RobotModel& model, double max_measurement_
 
 Status JointInputGuard::check_measurement(const JointControlInput& in) noexcept {
   if (in.q.size() != nq_ || in.qd.size() != nq_) return Status::kBadSize;
-  if (!in.q.allFinite() || !in.qd.allFinite() || !std::isfinite(in.t) || !std::isfinite(in.stamp))
-    return Status::kNonFiniteMeasurement;
-  // A measurement from the future is as untrustworthy as an old one.
-  const double age = in.t - in.stamp;
-  if (age > max_age_ || age < -max_age_) return Status::kStaleMeasurement;
+  if (!in.q.allFinite() || !in.qd.allFinite()) return Status::kNonFiniteMeasurement;
+  if (const Status age = gate_.check(in.t, in.stamp); failed(age)) return age;
+  gate_.accept(in.stamp);
   last_valid_q_ = in.q;
   has_valid_q_ = true;
   return Status::kOk;
@@ -52,20 +50,7 @@ Status JointInputGuard::damped_stop(Dynamics& dyn, const Eigen::VectorXd& kd,
 }
 
 Status JointInputGuard::saturate(Status status, Eigen::Ref<Eigen::VectorXd> tau) const noexcept {
-  bool clipped = false;
-  for (int i = 0; i < nq_; ++i) {
-    const double limited = std::fmin(std::fmax(tau[i], -effort_[i]), effort_[i]);
-    clipped |= limited != tau[i];
-    tau[i] = limited;
-  }
-  return clipped ? worst(status, Status::kSaturated) : status;
-}
-
-bool expand_gains(const Eigen::VectorXd& gains, int nq, Eigen::VectorXd* out) {
-  if (gains.size() != 1 && gains.size() != nq) return false;
-  if (!gains.allFinite() || (gains.array() < 0.0).any()) return false;
-  *out = gains.size() == 1 ? Eigen::VectorXd::Constant(nq, gains[0]) : gains;
-  return true;
+  return clip_effort(status, tau, effort_);
 }
 
 }  // namespace kiloloop

@@ -106,12 +106,12 @@ def controller_config(robot, actuation_delay: float | None = None):
 def plant_overlay(robot, controller) -> dict:
     """The plant's [sim] sections with what the robot file leaves out: the joints start in the
     controller's standing pose (URDF order), the IMU on the base, the feet from [legs]."""
-    from ..sil.plant import _urdf_joints
+    from ..sil.plant import urdf_joints
 
     sim = robot.sim
     joints = sim.setdefault("joints", {})
     if joints.get("q0") is None:
-        names, _ = _urdf_joints(robot.urdf)
+        names, _ = urdf_joints(robot.urdf)
         stand = dict(zip(controller.joint_names, np.asarray(controller.stand_pose)))
         joints["q0"] = [float(stand.get(n, 0.0)) for n in names]
     legs = robot.section("legs")

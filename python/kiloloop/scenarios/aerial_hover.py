@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..sil.aerial_rig import hold
 from ..sil.aerial_rig import AERIAL_PLOT, COMMON_DEFAULTS, add_derived, diverged, rig_from_settings
 from . import ScenarioResult, evaluate
 
@@ -16,17 +17,6 @@ SETTLE = 1.0  # [s] excluded from the metrics
 DEFAULTS = dict(COMMON_DEFAULTS)
 CRITERIA = {"max_position_error_m": ("<", 0.02), "attitude_error_rms_deg": ("<", 0.5),
             "diverged": ("<", 0.5)}
-
-
-def hold(rig):
-    """Hover point and the arm at its start pose (controller order)."""
-    hover = rig.hover_pos.copy()
-    q0 = rig.plant.q0.copy()[rig.to_ctrl]
-
-    def command(t, inp):
-        inp.position_ref[:] = hover
-        inp.q_ref[:] = q0
-    return command
 
 
 def run(settings: dict, seed: int = 0, duration: float | None = None,

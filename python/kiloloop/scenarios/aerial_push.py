@@ -8,9 +8,9 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..sil.aerial_rig import hold
 from ..sil.aerial_rig import AERIAL_PLOT, COMMON_DEFAULTS, add_derived, diverged, rig_from_settings
 from . import ScenarioResult, evaluate
-from .aerial_hover import hold
 
 NAME = "aerial-push"
 DESCRIPTION = "0.5 m/s sideways push at t = 1 s: peak deviation and recovery time"

@@ -5,9 +5,9 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..sil.aerial_rig import hold
 from ..sil.aerial_rig import AERIAL_PLOT, COMMON_DEFAULTS, add_derived, diverged, rig_from_settings
 from . import ScenarioResult, evaluate
-from .aerial_hover import hold
 
 NAME = "aerial-rotor-fault"
 DESCRIPTION = "one rotor at 70 % efficiency from t = 1 s: stays airborne, within 10 cm"

@@ -14,9 +14,9 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..sil.aerial_rig import hold
 from ..sil.aerial_rig import AERIAL_PLOT, COMMON_DEFAULTS, add_derived, diverged, rig_from_settings
 from . import ScenarioResult, evaluate
-from .aerial_hover import hold
 
 NAME = "aerial-wind"
 DESCRIPTION = "hover in 5 m/s wind with seeded gusts (drag model): position and attitude error"

@@ -5,10 +5,10 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..sil.quadruped_rig import trot_command
 from ..sil.quadruped_rig import (COMMON_DEFAULTS, QUADRUPED_PLOT, add_derived, fallen,
                                  rig_from_settings)
 from . import ScenarioResult, evaluate
-from .quadruped_trot import trot_command
 
 NAME = "quadruped-push"
 DESCRIPTION = "lateral push while trotting: roll peak and recovery within 0.8 s"

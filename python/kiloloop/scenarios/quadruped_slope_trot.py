@@ -5,10 +5,10 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..sil.quadruped_rig import fell_early
 from ..sil.quadruped_rig import (COMMON_DEFAULTS, QUADRUPED_PLOT, add_derived, fallen,
                                  heading_velocity, rig_from_settings)
 from . import ScenarioResult, evaluate
-from .quadruped_trot import fell_early
 
 NAME = "quadruped-slope-trot"
 DESCRIPTION = "trot up a 10 deg slope and back down at 0.5 m/s: no fall, roll/pitch, velocity"

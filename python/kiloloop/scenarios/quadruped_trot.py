@@ -4,8 +4,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..sil.quadruped_rig import (COMMON_DEFAULTS, QUADRUPED_PLOT, add_derived, fallen,
-                                 heading_velocity, rig_from_settings)
+from ..sil.quadruped_rig import (COMMON_DEFAULTS, QUADRUPED_PLOT, add_derived, fell_early,
+                                 rig_from_settings, trot_command, trot_metrics)
 from . import ScenarioResult, evaluate
 
 NAME = "quadruped-trot"
@@ -17,31 +17,6 @@ DEFAULTS = dict(COMMON_DEFAULTS, speed=0.5)
 CRITERIA = {"fell": ("<", 0.5), "roll_pitch_rms_deg": ("<", 3.0), "velocity_rms_error": ("<", 0.1)}
 
 
-def trot_command(speed: float, start: float = START):
-    def command(t):
-        return (1, np.array([speed, 0.0, 0.0])) if t >= start else (0, np.zeros(3))
-    return command
-
-
-def trot_metrics(log, speed: float, since: float, fall_height: float = 0.15) -> dict:
-    t = log["t"]
-    k = t >= since
-    rp = log["roll_pitch_deg"][k]
-    v = heading_velocity(log)[k]
-    return {
-        "fell": float(fallen(log, fall_height)),
-        "roll_rms_deg": float(np.sqrt(np.mean(rp[:, 0] ** 2))),
-        "pitch_rms_deg": float(np.sqrt(np.mean(rp[:, 1] ** 2))),
-        "roll_pitch_rms_deg": float(np.sqrt(np.mean(rp ** 2, axis=0)).max()),
-        # Forward velocity (heading frame) against the command, as the criterion asks.
-        "velocity_rms_error": float(np.sqrt(np.mean((v[:, 0] - speed) ** 2))),
-        "lateral_velocity_rms": float(np.sqrt(np.mean(v[:, 1] ** 2))),
-        "mean_forward_velocity": float(np.mean(v[:, 0])),
-        "distance_m": float(log["base_pos"][-1, 0] - log["base_pos"][0, 0]),
-        "failed_ticks": int(np.sum(log["status"] < 0)),
-    }
-
-
 def run(settings: dict, seed: int = 0, duration: float | None = None,
         robot=None) -> ScenarioResult:
     rig = rig_from_settings(settings, seed, robot=robot)
@@ -51,12 +26,6 @@ def run(settings: dict, seed: int = 0, duration: float | None = None,
     metrics = trot_metrics(log, settings["speed"], SETTLED, rig.fall_height)
     metrics["speed"] = settings["speed"]
     return ScenarioResult(NAME, metrics, evaluate(CRITERIA, metrics), log, dict(settings))
-
-
-def fell_early(rig):
-    # Cheap check every tick: the trunk near the ground ends the run (it is a fall either way).
-    low = 0.8 * rig.fall_height
-    return lambda log: log.last("base_pos")[2] < low
 
 
 def max_passing_speed(speeds=(0.5, 0.75, 1.0, 1.25, 1.5), seeds=(0, 7), settings=None) -> dict:

@@ -5,9 +5,9 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..sil.quadruped_rig import fell_early, trot_metrics
 from ..sil.quadruped_rig import COMMON_DEFAULTS, QUADRUPED_PLOT, add_derived, rig_from_settings
 from . import ScenarioResult, evaluate
-from .quadruped_trot import fell_early, trot_metrics
 
 NAME = "quadruped-turn"
 DESCRIPTION = "turning trot 0.5 m/s + 0.5 rad/s: no fall, yaw rate tracked, peak foot load per leg"

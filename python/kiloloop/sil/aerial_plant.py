@@ -23,7 +23,7 @@ import numpy as np
 from .floating_base import FloatingBaseReadout, add_free_base, add_imu
 from .floating_base import fixed as _fixed
 from .floating_base import unit_quat as _unit_quat
-from .plant import _add_joints_and_motors, _load_overlay, _spec_from_urdf, _urdf_joints
+from .plant import add_joints_and_motors, load_overlay as _plant_overlay, spec_from_urdf, urdf_joints
 from .urdf_import import weld_joints
 
 _DEFAULTS = {
@@ -40,7 +40,7 @@ _DEFAULTS = {
 
 def load_overlay(overlay) -> dict:
     """The aerial [sim.*] sections (path, dict or None) merged over the defaults."""
-    return _load_overlay(overlay, _DEFAULTS)
+    return _plant_overlay(overlay, _DEFAULTS)
 
 
 def _rotor_frame(axis) -> np.ndarray:
@@ -91,7 +91,7 @@ class AerialPlant(FloatingBaseReadout):
         if np.any(self.efficiency < 0):
             raise ValueError(f"rotors.efficiency: expected >= 0, got {eff!r}")
 
-        names, effort = _urdf_joints(urdf_path)
+        names, effort = urdf_joints(urdf_path)
         index = {name: i for i, name in enumerate(names)}
         self.joint_names = list(names if joints is None else joints)
         missing = [j for j in self.joint_names if j not in index]
@@ -101,7 +101,7 @@ class AerialPlant(FloatingBaseReadout):
         self.effort = np.array([effort[index[j]] for j in self.joint_names])
 
         self.notes = []
-        spec = _spec_from_urdf(urdf_path, phys, package_dirs, visual, self.notes)
+        spec = spec_from_urdf(urdf_path, phys, package_dirs, visual, self.notes)
         welded = weld_joints(spec, self.joint_names)
         if welded:
             self.notes.append(f"welded {len(welded)} joints off the arm: {', '.join(welded)}")
@@ -112,7 +112,7 @@ class AerialPlant(FloatingBaseReadout):
             geom.contype, geom.conaffinity = 0, 0
 
         if self.nq:
-            _add_joints_and_motors(spec, self.joint_names, self.effort, jcfg, cfg["actuators"])
+            add_joints_and_motors(spec, self.joint_names, self.effort, jcfg, cfg["actuators"])
 
         # Rotors: a site per rotor with z along its axis; a site-transmission actuator pushes along
         # the site's z and twists about it with gear (0, 0, 1, 0, 0, -spin * c): a rotor turning

@@ -292,3 +292,14 @@ AERIAL_PLOT = [("body position", "base_pos", None, "m"),
 def add_derived(log) -> None:
     """Attitude error vs the commanded attitude (deg), for plots and metrics."""
     log.put("att_err_deg", np.degrees(rotation_vector_error(log["base_quat"], log["quat_des"])))
+
+
+def hold(rig):
+    """Hover point and the arm at its start pose (controller order)."""
+    hover = rig.hover_pos.copy()
+    q0 = rig.plant.q0.copy()[rig.to_ctrl]
+
+    def command(t, inp):
+        inp.position_ref[:] = hover
+        inp.q_ref[:] = q0
+    return command

@@ -10,7 +10,7 @@ from pathlib import Path
 import mujoco
 import numpy as np
 
-from .plant import _joint_addresses
+from .plant import joint_addresses
 
 FREE_JOINT = "floating_base"
 _IMU_KINDS = (("gyro", mujoco.mjtSensor.mjSENS_GYRO),
@@ -66,7 +66,7 @@ class FloatingBaseReadout:
     def _index_floating_base(self) -> None:
         m = self.model
         (self._qadr, self._dadr, self._act, self._pos_sens,
-         self._vel_sens) = _joint_addresses(m, self.joint_names)
+         self._vel_sens) = joint_addresses(m, self.joint_names)
         free = m.joint(FREE_JOINT)
         self._free_q = int(free.qposadr[0])
         self._free_d = int(free.dofadr[0])

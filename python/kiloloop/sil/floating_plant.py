@@ -21,8 +21,8 @@ import numpy as np
 from .floating_base import FloatingBaseReadout, add_free_base, add_imu
 from .floating_base import fixed as _fixed
 from .floating_base import unit_quat as _unit_quat
-from .plant import _add_joints_and_motors, _spec_from_urdf, _urdf_joints
-from .plant import _load_overlay as _load_plant_overlay
+from .plant import add_joints_and_motors, collision_geoms, spec_from_urdf, urdf_joints
+from .plant import load_overlay as _load_plant_overlay
 
 _FEET = ("FL_foot", "FR_foot", "RL_foot", "RR_foot")
 _DEFAULTS = {
@@ -111,12 +111,12 @@ class FloatingBasePlant(FloatingBaseReadout):
         if not np.isfinite(friction) or friction < 0:
             raise ValueError(f"floor.friction: expected a non-negative number, got {friction!r}")
 
-        self.joint_names, effort = _urdf_joints(urdf_path)
+        self.joint_names, effort = urdf_joints(urdf_path)
         self.nq = len(self.joint_names)
         self.effort = effort
 
         self.notes = [] if notes is None else notes
-        spec = _spec_from_urdf(urdf_path, phys, package_dirs, notes=self.notes)
+        spec = spec_from_urdf(urdf_path, phys, package_dirs, notes=self.notes)
         _repair_inertias(spec, self.notes)
         # Friction cone and its stiffness: MuJoCo's soft friction lets a loaded foot creep; see
         # sim.toml for the measured creep under each setting.
@@ -137,7 +137,7 @@ class FloatingBasePlant(FloatingBaseReadout):
 
         # Robot geoms: contype 0, conaffinity 1. The floor (contype 1) hits them, but two robot
         # geoms never collide: legs may cross the trunk's box without a self-contact.
-        for geom in spec.geoms:
+        for geom in collision_geoms(spec):
             geom.contype, geom.conaffinity = 0, 1
         for foot in self.feet:
             body = spec.body(foot)
@@ -159,7 +159,7 @@ class FloatingBasePlant(FloatingBaseReadout):
                                     friction=[friction, *_SPIN_ROLL])
         self.floor = bool(fcfg["enabled"])
 
-        _add_joints_and_motors(spec, self.joint_names, effort, jcfg, cfg["actuators"])
+        add_joints_and_motors(spec, self.joint_names, effort, jcfg, cfg["actuators"])
 
         self.imu_site = add_imu(spec, cfg["imu"], self.base_body, urdf_path)
 

@@ -292,7 +292,3 @@ class MujocoPlant:
             self.model.opt.disableflags = flags
         return d.qfrc_inverse[self._dadr].copy()
 
-
-# Old private names, still imported by the floating-base plants until they move to the public ones.
-_load_overlay, _urdf_joints, _add_joints_and_motors = load_overlay, urdf_joints, add_joints_and_motors
-_spec_from_urdf, _joint_addresses = spec_from_urdf, joint_addresses

@@ -198,3 +198,38 @@ def add_derived(log) -> None:
     roll, pitch = roll_pitch(log["base_quat"])
     log.put("roll_pitch_deg", np.degrees(np.stack([roll, pitch], axis=1)))
     log.put("foot_fz", log["foot_force"][:, :, 2])
+
+
+# Trotting helpers shared by the trotting scenarios (trot, push, turn, slope-trot).
+def trot_command(speed: float, start: float = 0.5):
+    """command(t): stand until `start` [s], then trot forward at `speed` [m/s] (heading frame)."""
+    def command(t):
+        return (1, np.array([speed, 0.0, 0.0])) if t >= start else (0, np.zeros(3))
+    return command
+
+
+def trot_metrics(log, speed: float, since: float, fall_height: float = 0.15) -> dict:
+    """Fall, roll/pitch RMS and forward-velocity tracking of a trot from `since` [s] on."""
+    t = log["t"]
+    k = t >= since
+    rp = log["roll_pitch_deg"][k]
+    v = heading_velocity(log)[k]
+    return {
+        "fell": float(fallen(log, fall_height)),
+        "roll_rms_deg": float(np.sqrt(np.mean(rp[:, 0] ** 2))),
+        "pitch_rms_deg": float(np.sqrt(np.mean(rp[:, 1] ** 2))),
+        "roll_pitch_rms_deg": float(np.sqrt(np.mean(rp ** 2, axis=0)).max()),
+        # Forward velocity (heading frame) against the command, as the criterion asks.
+        "velocity_rms_error": float(np.sqrt(np.mean((v[:, 0] - speed) ** 2))),
+        "lateral_velocity_rms": float(np.sqrt(np.mean(v[:, 1] ** 2))),
+        "mean_forward_velocity": float(np.mean(v[:, 0])),
+        "distance_m": float(log["base_pos"][-1, 0] - log["base_pos"][0, 0]),
+        "failed_ticks": int(np.sum(log["status"] < 0)),
+    }
+
+
+def fell_early(rig):
+    """stop_when for trotting runs: the trunk near the ground ends the run."""
+    # Cheap check every tick: the trunk near the ground ends the run (it is a fall either way).
+    low = 0.8 * rig.fall_height
+    return lambda log: log.last("base_pos")[2] < low

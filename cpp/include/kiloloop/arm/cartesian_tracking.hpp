@@ -16,8 +16,9 @@
 // The first valid tick (and the first after reset()) starts q_r at the measured q. Bad
 // Cartesian reference (NaN/Inf, or pose_ref not rigid: bottom row not 0 0 0 1, rotation not
 // orthonormal with det +1): q_r holds still (qd_r = qdd_r = 0), status kNonFiniteReference. Bad
-// measurement: the computed torque controller's hold fallback. step() is noexcept and
-// allocation-free.
+// measurement: the computed torque controller's hold fallback. A q_r that overflowed (huge
+// references on joints without position limits) restarts at the next valid measurement.
+// step() is noexcept and allocation-free.
 #include <string>
 
 #include <Eigen/Cholesky>
@@ -63,16 +64,23 @@ class CartesianTrackingController {
                           CartesianTrackingController* out, std::string* why);
 
   Status step(const CartesianTrackingInput& in, CartesianTrackingOutput& out) noexcept;
-  void reset() noexcept { started_ = false; }
+  // Restarts q_r at the next valid measurement and forgets the measurement order.
+  void reset() noexcept {
+    started_ = false;
+    joint_.reset();
+  }
 
   int nq() const { return nq_; }
   CartesianTrackingInput make_input() const;
   CartesianTrackingOutput make_output() const;
-  const StepCounters& counters() const { return joint_.counters(); }
+  // The statuses this step returned (the inner joint controller counts its own).
+  const StatusCounters& counters() const { return counters_; }
 
  private:
   CartesianTrackingConfig config_;
   int nq_ = 0;
+  Status run(const CartesianTrackingInput& in, CartesianTrackingOutput& out) noexcept;
+
   ChainKinematics kin_;
   ComputedTorqueController joint_;
   JointControlInput joint_in_;
@@ -82,6 +90,7 @@ class CartesianTrackingController {
   Eigen::MatrixXd J_;                     // (6, nq)
   Eigen::Matrix<double, 6, 6> JJt_;
   Eigen::LDLT<Eigen::Matrix<double, 6, 6>> ldlt_;
+  StatusCounters counters_;
   bool started_ = false;
 };
 

@@ -5,7 +5,8 @@
 //   pose error e = [p_ref - p; log(R_ref R^T)],  twist x_dot = J qd,
 //   operational-space inertia Lambda = (J M^-1 J^T + mu I)^-1 (mu: damping near singularities),
 //   bias h = C(q, qd) qd + g(q);   the law returns a task wrench F and tau = J^T F + h.
-// Bad-input policy (as the joint controllers): bad measurement (size, NaN/Inf, stale) -> hold:
+// Bad-input policy (as the joint controllers): bad measurement (size, NaN/Inf, stale or out of
+// order: MeasurementGate) -> hold:
 // gravity at the last valid position (zero if none); bad reference (NaN/Inf, R_ref not a
 // rotation) -> damped stop g(q) - Kd_joint qd; torques clipped to the effort limits (kSaturated).
 #include <string>
@@ -14,6 +15,7 @@
 #include <Eigen/Core>
 
 #include "kiloloop/control/cartesian_io.hpp"
+#include "kiloloop/control/rules.hpp"
 #include "kiloloop/dynamics/dynamics.hpp"
 
 namespace kiloloop {
@@ -44,7 +46,13 @@ class CartesianTorqueController {
   int nq() const { return dyn_.nq(); }
   CartesianControlInput make_input() const { return make_cartesian_input(nq()); }
   CartesianControlOutput make_output() const { return make_cartesian_output(nq()); }
-  const CartesianCounters& counters() const { return counters_; }
+  const StatusCounters& counters() const { return counters_; }
+  // Back to the state right after configure: no last valid position, no measurement order, no
+  // previous tick time (counters kept). A law's own state has its own reset (reset_integral).
+  void reset() noexcept {
+    has_valid_q_ = has_last_t_ = false;
+    gate_.reset();
+  }
   // Tip pose of the last valid measurement (root frame): handy to initialise references.
   const Eigen::Matrix4d& tip_pose() const { return T_; }
 
@@ -75,7 +83,8 @@ class CartesianTorqueController {
   bool has_valid_q_ = false;
   double last_t_ = 0.0;
   bool has_last_t_ = false;
-  CartesianCounters counters_;
+  MeasurementGate gate_;
+  StatusCounters counters_;
   bool configured_ = false;
 };
 

@@ -31,29 +31,8 @@ struct CartesianControlOutput {
   Status status = Status::kNotConfigured;
 };
 
-// Why steps degraded or failed, counted since configure.
-struct CartesianCounters {
-  unsigned long long ticks = 0;
-  unsigned long long saturated = 0;
-  unsigned long long non_finite_measurement = 0;
-  unsigned long long non_finite_reference = 0;
-  unsigned long long stale_measurement = 0;
-  unsigned long long bad_size = 0;
-  unsigned long long solver_failed = 0;
-
-  void record(Status s) noexcept {
-    ++ticks;
-    switch (s) {
-      case Status::kSaturated: ++saturated; break;
-      case Status::kNonFiniteMeasurement: ++non_finite_measurement; break;
-      case Status::kNonFiniteReference: ++non_finite_reference; break;
-      case Status::kStaleMeasurement: ++stale_measurement; break;
-      case Status::kBadSize: ++bad_size; break;
-      case Status::kSolverFailed: ++solver_failed; break;
-      default: break;
-    }
-  }
-};
+// Former name of the step counters: every controller counts its statuses in StatusCounters.
+using CartesianCounters = StatusCounters;
 
 // Zero-filled input (identity orientation) and output sized for nq joints (allocates).
 CartesianControlInput make_cartesian_input(int nq);

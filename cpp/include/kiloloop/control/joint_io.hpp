@@ -21,29 +21,8 @@ struct JointControlOutput {
   Status status = Status::kNotConfigured;
 };
 
-// Why steps degraded or failed, counted since configure (read them in tests and logs).
-struct StepCounters {
-  unsigned long long ticks = 0;
-  unsigned long long saturated = 0;
-  unsigned long long reference_clamped = 0;
-  unsigned long long non_finite_measurement = 0;
-  unsigned long long non_finite_reference = 0;
-  unsigned long long stale_measurement = 0;
-  unsigned long long bad_size = 0;
-
-  void record(Status s) noexcept {
-    ++ticks;
-    switch (s) {
-      case Status::kSaturated: ++saturated; break;
-      case Status::kReferenceClamped: ++reference_clamped; break;
-      case Status::kNonFiniteMeasurement: ++non_finite_measurement; break;
-      case Status::kNonFiniteReference: ++non_finite_reference; break;
-      case Status::kStaleMeasurement: ++stale_measurement; break;
-      case Status::kBadSize: ++bad_size; break;
-      default: break;
-    }
-  }
-};
+// Former name of the step counters: every controller counts its statuses in StatusCounters.
+using StepCounters = StatusCounters;
 
 }  // namespace kiloloop
 

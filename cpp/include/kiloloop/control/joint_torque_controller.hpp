@@ -27,7 +27,10 @@ class JointTorqueController {
   int nq() const { return dyn_.nq(); }
   JointControlInput make_input() const { return make_joint_input(nq()); }
   JointControlOutput make_output() const { return make_joint_output(nq()); }
-  const StepCounters& counters() const { return counters_; }
+  const StatusCounters& counters() const { return counters_; }
+  // Back to the state right after configure: no last valid position, no measurement order,
+  // counters kept (they count since configure).
+  void reset() noexcept { guard_.reset(); }
 
  protected:
   Status configure_common(const Eigen::VectorXd& kp, const Eigen::VectorXd& kd,
@@ -42,9 +45,12 @@ class JointTorqueController {
   Eigen::VectorXd kp_, kd_;
 
  private:
+  // The law, then the compensated joint friction on its torque (JointFriction).
+  Status law_with_friction(const JointControlInput& in, Eigen::Ref<Eigen::VectorXd> tau) noexcept;
+
   JointInputGuard guard_;
   JointFriction friction_;
-  StepCounters counters_;
+  StatusCounters counters_;
   bool configured_ = false;
 };
 

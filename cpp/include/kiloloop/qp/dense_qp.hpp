@@ -44,9 +44,13 @@ enum class QpStatus : int {
   kOptimal = 0,
   kIterationLimit = 1,  // stopped at max_iterations; x is the last iterate (may violate constraints)
   kInfeasible = -1,     // the constraints admit no point
-  kBadInput = -2,       // sizes beyond the workspace, non-finite data, H not symmetric positive
-                        // definite (on the variables not fixed by lb == ub)
+  kBadInput = -2,       // sizes beyond the workspace, non-finite data, data so large that its
+                        // row sums overflow, H not symmetric positive definite (on the variables
+                        // not fixed by lb == ub; entries below DBL_MIN count as 0)
   kNotConfigured = -3,
+  kNumericalError = -4,  // the solve ended, but its x, objective or multipliers are not finite or
+                         // x violates a constraint beyond the check tolerance (data at the edge of
+                         // double range, extreme conditioning); x is a finite fallback
 };
 
 const char* to_string(QpStatus s) noexcept;
@@ -81,9 +85,14 @@ class DenseQpSolver {
 
   // Empty (0-row) A_eq/C and empty (size 0) lb/ub mean "none". x must have size n. H is read in
   // full and must be symmetric (to 1e-9 of its largest diagonal entry). d_i = +inf, lb_j = -inf,
-  // ub_j = +inf are absent constraints; NaN anywhere, d_i = -inf, lb_j = +inf or ub_j = -inf are
-  // kBadInput. On kBadInput x is zeroed (when its size is right); on kInfeasible and
-  // kIterationLimit it holds the last iterate.
+  // ub_j = +inf are absent constraints; d_i = -inf, lb_j = +inf or ub_j = -inf can never be met
+  // (kInfeasible, x zeroed); NaN anywhere and +-inf in H, g, A_eq, b_eq, C are kBadInput (x zeroed
+  // when its size is right). On kInfeasible and kIterationLimit x holds the last iterate.
+  //
+  // The result is checked before it is returned: kOptimal only with a finite x, objective and
+  // multipliers, and every constraint met to 1e4 x max(feasibility_tol, 1e-12) of the size of its
+  // terms (|b_i| + ||row_i||_1 ||x||_inf). Otherwise kNumericalError. Whatever the status, x and
+  // the multipliers are finite (a non-finite iterate is replaced by zeros).
   QpResult solve(const MatRef& H, const VecRef& g, const MatRef& A_eq, const VecRef& b_eq,
                  const MatRef& C, const VecRef& d, const VecRef& lb, const VecRef& ub,
                  Eigen::Ref<Eigen::VectorXd> x) noexcept;
@@ -103,7 +112,8 @@ class DenseQpSolver {
   struct Problem;  // raw views of one solve's data, defined in dense_qp.cpp
   enum class AddResult { kAdded, kSkipped, kInfeasible, kIterationLimit };
 
-  bool valid_values(const Problem& p) noexcept;  // also fills the row norms
+  // kOptimal when the data can be solved, else kBadInput or kInfeasible; fills the row norms.
+  QpStatus check_values(const Problem& p) noexcept;
   Problem eliminate_fixed(const Problem& full) noexcept;
   bool factorize(const Problem& p) noexcept;
   double slack(const Problem& p, int c) const noexcept;  // n_c' x - b_c (>= form)
@@ -113,6 +123,8 @@ class DenseQpSolver {
   AddResult add_constraint(const Problem& p, int c) noexcept;
   void drop_active(int k, int n) noexcept;
   void finish(const Problem& full, const Problem& p, QpResult* res) noexcept;
+  bool verified(const Problem& full) const noexcept;  // the check above
+  void sanitize_result(const Problem& full, QpResult* res) noexcept;      // finite x, multipliers
 
   QpSettings settings_;
   int n_max_ = 0, me_max_ = 0, mi_max_ = 0;

@@ -17,7 +17,7 @@
 // joint's velocity ramps to zero at its stop deceleration (stop time max_j |qd_j| / a_stop_j,
 // distance qd_j^2 / (2 a_stop_j)), tracked by computed torque, then HOLDS the final position.
 // Back to NORMAL only through `reset` while the e-stop is released and the arm holds.
-// Bad measurement (size, NaN/Inf, stale): nothing can be checked. In NORMAL the output is gravity
+// Bad measurement (size, NaN/Inf, stale or out of order: MeasurementGate): nothing can be checked. In NORMAL the output is gravity
 // at the last valid q; max_bad_ticks consecutive bad ticks latch a stop (trip kStaleMeasurement)
 // from the last valid (q, qd). While STOPPING or HOLDING without a measurement the stop goes on
 // open loop: the inverse dynamics of the planned stop reference (its braking deceleration, then
@@ -29,6 +29,7 @@
 
 #include <Eigen/Core>
 
+#include "kiloloop/control/rules.hpp"
 #include "kiloloop/dynamics/dynamics.hpp"
 #include "kiloloop/safety/singularity_monitor.hpp"
 
@@ -77,19 +78,25 @@ struct SupervisorOutput {
   double stop_time = 0.0;     // [s] planned duration of the current controlled stop
 };
 
-struct SupervisorCounters {
-  unsigned long long ticks = 0;
-  unsigned long long estops = 0;
-  unsigned long long position_trips = 0;
-  unsigned long long velocity_trips = 0;
-  unsigned long long acceleration_trips = 0;
-  unsigned long long overload_trips = 0;      // sustained (I^2 t) and instantaneous (peak) trips
-  unsigned long long bad_command_trips = 0;   // NaN/Inf or wrong-size torque from the controller
-  unsigned long long saturated = 0;           // ticks with clipped torque
-  unsigned long long singularity_warnings = 0;  // ticks with a warning
-  unsigned long long bad_measurement = 0;     // size, NaN/Inf or stale
-  unsigned long long measurement_trips = 0;   // stops latched by max_bad_ticks bad measurements
-  unsigned long long resets = 0;
+// The step statuses (StatusCounters, as every controller) plus the supervisor's events: trips
+// are counted once when they latch (the status then repeats every tick of the stop), warnings and
+// clipping per tick whatever the tick's final status.
+struct SupervisorCounters : StatusCounters {
+  std::uint64_t estops = 0;
+  std::uint64_t position_trips = 0;
+  std::uint64_t velocity_trips = 0;
+  std::uint64_t acceleration_trips = 0;
+  std::uint64_t overload_trips = 0;      // sustained (I^2 t) and instantaneous (peak) trips
+  std::uint64_t bad_command_trips = 0;   // NaN/Inf or wrong-size torque from the controller
+  std::uint64_t clipped = 0;             // ticks with clipped torque
+  std::uint64_t singularity_warnings = 0;  // ticks with a warning
+  std::uint64_t measurement_trips = 0;   // stops latched by max_bad_ticks bad measurements
+  std::uint64_t resets = 0;
+  // Ticks with a bad measurement (size, NaN/Inf, stale): their step status says which.
+  std::uint64_t bad_measurements() const noexcept {
+    return count(Status::kBadSize) + count(Status::kNonFiniteMeasurement) +
+           count(Status::kStaleMeasurement);
+  }
 };
 
 class ArmSupervisor {
@@ -98,6 +105,8 @@ class ArmSupervisor {
                           std::string* why);
 
   Status step(const SupervisorInput& in, SupervisorOutput& out) noexcept;
+  // Forgets the measurement order (a new run, a new clock). Leaving a stop is `in.reset`.
+  void reset_measurement_order() noexcept { gate_.reset(); }
 
   int nq() const { return dyn_.nq(); }
   SupervisorInput make_input() const;
@@ -111,6 +120,7 @@ class ArmSupervisor {
   Status stop_torque(const SupervisorInput& in, Eigen::Ref<Eigen::VectorXd> tau) noexcept;
   Status blind_torque(const SupervisorInput& in, Eigen::Ref<Eigen::VectorXd> tau) noexcept;
   Status clip(Status s, Eigen::Ref<Eigen::VectorXd> tau) noexcept;
+  Status run(const SupervisorInput& in, SupervisorOutput& out) noexcept;  // step, uncounted
 
   Dynamics dyn_;
   ArmSupervisorConfig config_;
@@ -129,6 +139,7 @@ class ArmSupervisor {
   // Scratch.
   Eigen::MatrixXd J_;
   Eigen::VectorXd q_ref_, qd_ref_, qdd_ref_, v_;
+  MeasurementGate gate_;
   SupervisorCounters counters_;
   bool configured_ = false;
 };

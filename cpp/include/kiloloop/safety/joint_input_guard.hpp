@@ -1,13 +1,16 @@
 #pragma once
 // JointInputGuard: the shared bad-input policy of the joint-space torque controllers.
-//   bad measurement (size, NaN/Inf, stale) -> hold: gravity compensation at the last valid
-//       position (zero torque if none was ever seen);
+//   bad measurement (size, NaN/Inf, stale or out of order: MeasurementGate) -> hold: gravity
+//       compensation at the last valid position (zero torque if none was ever seen);
 //   bad reference (size, NaN/Inf)          -> damped stop: g(q) - Kd qd at the measured state;
 //   reference outside the joint limits     -> clamped, status kReferenceClamped;
-//   torque beyond the effort limits        -> clipped, status kSaturated.
+//   torque beyond the effort limits        -> clipped, status kSaturated (clip_effort).
+#include <string>
+
 #include <Eigen/Core>
 
 #include "kiloloop/control/joint_io.hpp"
+#include "kiloloop/control/rules.hpp"
 #include "kiloloop/dynamics/dynamics.hpp"
 
 namespace kiloloop {
@@ -16,7 +19,7 @@ class JointInputGuard {
  public:
   void configure(const RobotModel& model, double max_measurement_age);
 
-  // Size, finiteness and age of q, qd. A valid q is remembered for the hold fallback.
+  // Size, finiteness, age and order of q, qd. A valid q is remembered for the hold fallback.
   Status check_measurement(const JointControlInput& in) noexcept;
   // Size and finiteness of the reference; writes q_ref clamped to the position limits.
   Status check_reference(const JointControlInput& in) noexcept;
@@ -26,20 +29,26 @@ class JointInputGuard {
   Status hold(Dynamics& dyn, Status why, Eigen::Ref<Eigen::VectorXd> tau) noexcept;
   Status damped_stop(Dynamics& dyn, const Eigen::VectorXd& kd, const JointControlInput& in,
                      Status why, Eigen::Ref<Eigen::VectorXd> tau) noexcept;
-  // Clips tau to +-effort; returns kSaturated if anything was clipped, else `status`.
+  // clip_effort with the model's effort limits.
   Status saturate(Status status, Eigen::Ref<Eigen::VectorXd> tau) const noexcept;
+  // Forgets the last valid position and the measurement order (a new run).
+  void reset() noexcept {
+    has_valid_q_ = false;
+    gate_.reset();
+  }
 
  private:
   int nq_ = 0;
-  double max_age_ = 0.0;
+  MeasurementGate gate_;
   Eigen::VectorXd lower_, upper_, effort_;
   Eigen::VectorXd last_valid_q_, q_ref_;
   bool has_valid_q_ = false;
 };
 
-// Gains given as one value (broadcast) or one per joint; returns false on a wrong size or a
-// negative/non-finite gain. `out` is sized nq.
-bool expand_gains(const Eigen::VectorXd& gains, int nq, Eigen::VectorXd* out);
+// Former name of broadcast_gains (control/rules.hpp), kept for existing callers.
+inline bool expand_gains(const Eigen::VectorXd& gains, int nq, Eigen::VectorXd* out) {
+  return broadcast_gains(gains, nq, out);
+}
 
 }  // namespace kiloloop
 
