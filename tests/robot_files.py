@@ -1,6 +1,7 @@
 """Helpers for tests that bring real robots: example-robot-data's URDFs and minimal robot files."""
 from __future__ import annotations
 
+import sys
 import sysconfig
 from pathlib import Path
 
@@ -8,11 +9,18 @@ import pytest
 
 
 def erd_share() -> Path:
-    """The directory that package://example-robot-data/... resolves against (the wheel's share/)."""
-    share = Path(sysconfig.get_paths()["purelib"]) / "cmeel.prefix" / "share"
-    if not (share / "example-robot-data" / "robots").is_dir():
-        pytest.skip("example-robot-data (a test dependency) is not installed")
-    return share
+    """The directory that package://example-robot-data/... resolves against: the wheel installs
+    its robots under site-packages/cmeel.prefix/share/ (6.x has no Python module to ask)."""
+    bases = [Path(sysconfig.get_paths()["purelib"]), *map(Path, sys.path), Path(sys.prefix)]
+    for base in bases:
+        for share in (base / "cmeel.prefix" / "share", base / "share"):
+            if (share / "example-robot-data" / "robots" / "ur_description").is_dir():
+                return share
+    pytest.skip("example-robot-data (a test dependency) is not installed")
+
+
+def erd_robots_dir() -> Path:
+    return erd_share() / "example-robot-data" / "robots"
 
 
 def erd_urdf(rel: str) -> Path:

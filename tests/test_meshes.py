@@ -10,6 +10,8 @@ import pytest
 import kiloloop as kl
 from kiloloop import meshes
 
+from robot_files import erd_robots_dir
+
 trimesh = pytest.importorskip("trimesh")
 
 SEED = 7
@@ -116,19 +118,6 @@ def test_mesh_collision_without_a_capsule_still_fails_and_with_one_is_used(tmp_p
     assert len(caps) == 7 and len(fore) == 1 and fore[0].radius == 0.06
     with pytest.raises(ValueError, match=r"link 'forarm_link', which is not in the URDF"):
         kl.capsules_from_urdf(xml, model, mesh_capsules={"forarm_link": given["forearm_link"]})
-
-
-def erd_robots_dir():
-    """example-robot-data's robots/ (site-packages/cmeel.prefix/share/example-robot-data/robots)."""
-    import sys
-    from pathlib import Path
-
-    for base in [*map(Path, sys.path), Path(sys.prefix)]:
-        for share in (base / "cmeel.prefix" / "share", base / "share"):
-            hit = share / "example-robot-data" / "robots"
-            if (hit / "ur_description").is_dir():
-                return hit
-    pytest.skip("example-robot-data is not installed")
 
 
 def test_ur10_capsules_hold_every_collision_mesh_vertex():

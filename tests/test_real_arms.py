@@ -2,7 +2,6 @@
 frames: zero pose pointing up, axes along y, rotated tool0) and the Panda with its hand (a mimic
 finger off the chain). Dynamics equal Pinocchio's reduced model; the UR closed form is recognised
 on the real UR5 and UR10 and every solution reaches the target."""
-import sys
 from pathlib import Path
 
 import numpy as np
@@ -10,20 +9,11 @@ import pytest
 
 import kiloloop as kl
 
+from robot_files import erd_robots_dir as robots_dir
+
 pin = pytest.importorskip("pinocchio")
 
 SEED = 11
-
-
-def robots_dir() -> Path:
-    """example-robot-data's robots/ directory (its URDFs say package://example-robot-data/robots/...):
-    the wheel installs it under site-packages/cmeel.prefix/share/ (6.x has no Python module)."""
-    for base in [*map(Path, sys.path), Path(sys.prefix)]:
-        for share in (base / "cmeel.prefix" / "share", base / "share"):
-            hit = share / "example-robot-data" / "robots"
-            if (hit / "ur_description").is_dir():
-                return hit
-    pytest.skip("example-robot-data is not installed")
 
 
 def urdf(rel: str) -> Path:
