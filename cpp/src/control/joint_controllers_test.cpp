@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include "alloc_counter.hpp"
+#include "joint_inputs.hpp"
 #include "kiloloop/control/computed_torque.hpp"
 #include "kiloloop/control/joint_pd_gravity.hpp"
 #include "test_models.hpp"
@@ -35,16 +36,7 @@ JointPdGravityController make_pd(RobotModelPtr model) {
 }
 
 JointControlInput random_input(std::mt19937& rng, int n) {
-  std::uniform_real_distribution<double> u(-1, 1);
-  JointControlInput in = make_joint_input(n);
-  for (int i = 0; i < n; ++i) {
-    in.q[i] = u(rng);
-    in.qd[i] = u(rng);
-    in.q_ref[i] = in.q[i] + 0.01 * u(rng);
-    in.qd_ref[i] = 0.1 * u(rng);
-    in.qdd_ref[i] = 0.1 * u(rng);
-  }
-  return in;
+  return testing::random_joint_input(rng, n);
 }
 
 TEST(ComputedTorque, EqualsTheTextbookLaw) {

@@ -6,8 +6,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..sil.aerial_rig import hold
-from ..sil.aerial_rig import AERIAL_PLOT, COMMON_DEFAULTS, add_derived, diverged, rig_from_settings
+from ..sil.aerial_rig import (AERIAL_PLOT, COMMON_DEFAULTS, add_derived, diverged, hold,
+                              hold_errors, rig_from_settings)
 from . import ScenarioResult, evaluate
 
 NAME = "aerial-hover"
@@ -26,14 +26,9 @@ def run(settings: dict, seed: int = 0, duration: float | None = None,
     add_derived(log)
     t = log["t"]
     after = t >= min(SETTLE, 0.5 * t[-1])
-    pos_err = np.linalg.norm(log["base_pos"] - log["pos_ref"], axis=1)
-    att = np.linalg.norm(log["att_err_deg"], axis=1)
     reason = diverged(log)
     metrics = {
-        "max_position_error_m": float(pos_err[after].max()),
-        "rms_position_error_m": float(np.sqrt(np.mean(pos_err[after] ** 2))),
-        "attitude_error_rms_deg": float(np.sqrt(np.mean(att[after] ** 2))),
-        "attitude_error_max_deg": float(att[after].max()),
+        **hold_errors(log, after),
         "mean_thrust_N": float(np.mean(np.sum(log["thrust"][after], axis=1))),
         "diverged": float(bool(reason)),
         "failed_ticks": int(np.sum(log["status"] < 0)),

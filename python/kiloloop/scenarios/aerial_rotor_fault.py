@@ -5,8 +5,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..sil.aerial_rig import hold
-from ..sil.aerial_rig import AERIAL_PLOT, COMMON_DEFAULTS, add_derived, diverged, rig_from_settings
+from ..sil.aerial_rig import (AERIAL_PLOT, COMMON_DEFAULTS, add_derived, diverged, hold,
+                              rig_from_settings)
 from . import ScenarioResult, evaluate
 
 NAME = "aerial-rotor-fault"

@@ -14,8 +14,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..sil.aerial_rig import hold
-from ..sil.aerial_rig import AERIAL_PLOT, COMMON_DEFAULTS, add_derived, diverged, rig_from_settings
+from ..sil.aerial_rig import (AERIAL_PLOT, COMMON_DEFAULTS, add_derived, diverged, hold,
+                              hold_errors, rig_from_settings)
 from . import ScenarioResult, evaluate
 
 NAME = "aerial-wind"
@@ -73,14 +73,9 @@ def run(settings: dict, seed: int = 0, duration: float | None = None,
     add_derived(log)
     t = log["t"]
     after = t >= min(settings["ramp"] + 1.0, 0.5 * t[-1])
-    pos_err = np.linalg.norm(log["base_pos"] - log["pos_ref"], axis=1)
-    att = np.linalg.norm(log["att_err_deg"], axis=1)
     reason = diverged(log)
     metrics = {
-        "max_position_error_m": float(pos_err[after].max()),
-        "rms_position_error_m": float(np.sqrt(np.mean(pos_err[after] ** 2))),
-        "attitude_error_rms_deg": float(np.sqrt(np.mean(att[after] ** 2))),
-        "attitude_error_max_deg": float(att[after].max()),
+        **hold_errors(log, after),
         "max_tilt_deg": float(np.degrees(log["tilt"][after]).max()),
         "max_wind_force_N": float(np.linalg.norm(log["wind_force"], axis=1).max()),
         "drag_area_m2": float(settings["drag_area"]),

@@ -5,9 +5,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..sil.quadruped_rig import trot_command
 from ..sil.quadruped_rig import (COMMON_DEFAULTS, QUADRUPED_PLOT, add_derived, fallen,
-                                 rig_from_settings)
+                                 rig_from_settings, trot_command)
 from . import ScenarioResult, evaluate
 
 NAME = "quadruped-push"

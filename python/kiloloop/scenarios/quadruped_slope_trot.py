@@ -5,8 +5,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..sil.quadruped_rig import fell_early
-from ..sil.quadruped_rig import (COMMON_DEFAULTS, QUADRUPED_PLOT, add_derived, fallen,
+from ..sil.quadruped_rig import (COMMON_DEFAULTS, QUADRUPED_PLOT, add_derived, fallen, fell_early,
                                  heading_velocity, rig_from_settings)
 from . import ScenarioResult, evaluate
 

@@ -5,8 +5,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..sil.quadruped_rig import fell_early, trot_metrics
-from ..sil.quadruped_rig import COMMON_DEFAULTS, QUADRUPED_PLOT, add_derived, rig_from_settings
+from ..sil.quadruped_rig import (COMMON_DEFAULTS, QUADRUPED_PLOT, add_derived, fell_early,
+                                 rig_from_settings, trot_metrics)
 from . import ScenarioResult, evaluate
 
 NAME = "quadruped-turn"

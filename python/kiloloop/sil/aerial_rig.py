@@ -303,3 +303,16 @@ def hold(rig):
         inp.position_ref[:] = hover
         inp.q_ref[:] = q0
     return command
+
+
+def hold_errors(log, after) -> dict:
+    """Position error [m] and attitude error [deg] of a hold (hover, wind) over the ticks where
+    `after` is true: max and RMS."""
+    pos_err = np.linalg.norm(log["base_pos"] - log["pos_ref"], axis=1)[after]
+    att = np.linalg.norm(log["att_err_deg"], axis=1)[after]
+    return {
+        "max_position_error_m": float(pos_err.max()),
+        "rms_position_error_m": float(np.sqrt(np.mean(pos_err ** 2))),
+        "attitude_error_rms_deg": float(np.sqrt(np.mean(att ** 2))),
+        "attitude_error_max_deg": float(att.max()),
+    }

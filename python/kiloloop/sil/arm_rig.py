@@ -220,10 +220,13 @@ class ArmRig:
                 recorder.close()
 
 
-def joint_config(robot, model, q, delay_ticks: int = 0, config=None):
-    """kl.ComputedTorqueConfig from the robot file: gains (bandwidth), measurement age, friction."""
-    c = config or kl.ComputedTorqueConfig()
-    c.kp, c.kd = arm_defaults.joint_gains(robot, model, "computed_torque", q)
+def joint_config(robot, model, q, delay_ticks: int = 0, config=None,
+                 law: str = "computed_torque"):
+    """The joint controller's config from the robot file: gains (bandwidth; on M(q) for
+    pd_gravity), measurement age (plus the measurement delay), compensated friction."""
+    c = config or (kl.ComputedTorqueConfig() if law == "computed_torque"
+                   else kl.JointPdGravityConfig())
+    c.kp, c.kd = arm_defaults.joint_gains(robot, model, law, q)
     age = float(arm_defaults.controller_settings(robot)["max_measurement_age"])
     c.max_measurement_age = age + delay_ticks * 0.001
     c.friction = arm_defaults.joint_friction(robot, model)
@@ -232,18 +235,11 @@ def joint_config(robot, model, q, delay_ticks: int = 0, config=None):
 
 def controller(robot, model, law: str, q, *, delay_ticks: int = 0, config=None):
     """A compiled joint controller with gains derived from the robot file (robot/arm.py)."""
-    kp, kd = arm_defaults.joint_gains(robot, model, law, q)
-    age = float(arm_defaults.controller_settings(robot)["max_measurement_age"])
-    if law == "computed_torque":
-        return kl.ComputedTorqueController(model, joint_config(robot, model, q, delay_ticks,
-                                                               config))
-    if law == "pd_gravity":
-        c = config or kl.JointPdGravityConfig()
-        c.kp, c.kd = kp, kd
-        c.max_measurement_age = age + delay_ticks * 0.001
-        c.friction = arm_defaults.joint_friction(robot, model)
-        return kl.JointPdGravityController(model, c)
-    raise ValueError(f"controller: expected 'computed_torque' or 'pd_gravity', got {law!r}")
+    classes = {"computed_torque": kl.ComputedTorqueController,
+               "pd_gravity": kl.JointPdGravityController}
+    if law not in classes:
+        raise ValueError(f"controller: expected 'computed_torque' or 'pd_gravity', got {law!r}")
+    return classes[law](model, joint_config(robot, model, q, delay_ticks, config, law))
 
 
 def joint_targets(model, plant: MujocoPlant, q_start, count: int, fraction: float,
