@@ -21,7 +21,7 @@ JOBS ?= 2
 SAN_ENV := ASAN_OPTIONS=detect_leaks=1:abort_on_error=1:strict_string_checks=1 \
            UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
 
-.PHONY: demo test bench build system-deps clean robot-matrix matrix fuzz sanitize
+.PHONY: demo test bench build system-deps clean robot-matrix matrix fuzz sanitize b2b firmware-loop
 
 demo: build
 	@echo "==> demo: the UR5 follows a quintic in MuJoCo (arm-track); plot and log into $(OUT)/"
@@ -45,6 +45,17 @@ robot-matrix: build
 # Quadruped robot x scenario x delay table (minutes; not part of `make test`).
 matrix: build
 	$(BIN)/python -m kiloloop.bench.quadruped_matrix bench
+
+# The firmware path for our three robots: SIL log -> export -> firmware build (-fno-exceptions
+# -fno-rtti, build/firmware/) -> replay, bit for bit (docs/firmware.md).
+b2b: build
+	for robot in ur5 quadruped aerial_manipulator; do $(BIN)/kiloloop b2b $$robot || exit 1; done
+
+# The firmware example's fixed-rate loop, 10 s at 1 kHz on this machine (figures: bench/).
+firmware-loop: build
+	$(BIN)/kiloloop b2b quadruped
+	build/firmware/quadruped/build/kiloloop_firmware run build/firmware/quadruped/b2b.log 10 \
+	  | tee bench/firmware_loop.txt
 
 # Every fuzz target, FUZZ_INPUTS inputs each; prints inputs, bad outputs, missed statuses and
 # crashes per target and fails on any of them.

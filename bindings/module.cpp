@@ -1,6 +1,10 @@
 // kiloloop._core: the compiled core, re-exported by the `kiloloop` package.
 #include "common.hpp"
 
+namespace kiloloop::py_glue {
+void bind_firmware(py::module_& m);  // bind_firmware.cpp
+}  // namespace kiloloop::py_glue
+
 PYBIND11_MODULE(_core, m) {
   using namespace kiloloop::py_glue;
   m.doc() = "kiloloop compiled core (C++): models, dynamics, trajectories, controllers";
@@ -20,4 +24,5 @@ PYBIND11_MODULE(_core, m) {
   bind_safety(m);
   bind_aerial(m);
   bind_native(m);
+  bind_firmware(m);
 }

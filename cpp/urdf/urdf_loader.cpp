@@ -1,12 +1,12 @@
 #include "kiloloop/urdf/urdf_loader.hpp"
 
+#include "kiloloop/urdf/urdf_description.hpp"
+
 #include <cmath>
 #include <fstream>
-#include <set>
 #include <sstream>
 
 #include <console_bridge/console.h>
-#include <kdl_parser/kdl_parser.hpp>
 #include <urdf_parser/urdf_parser.h>
 
 namespace kiloloop {
@@ -59,17 +59,41 @@ Status fail(std::string* why, const std::string& msg) {
   return Status::kModelError;
 }
 
-}  // namespace
-
-Status model_from_urdf_string(const std::string& xml, const std::string& root,
-                              const std::string& tip, RobotModel* out, std::string* why,
-                              const std::string& source) {
-  return model_from_urdf_string(xml, root, tip, {}, out, why, source);
+// URDF writes 0 for "not given" velocity/effort on continuous joints; continuous joints have no
+// position range.
+JointLimit limit_of(const urdf::Joint& joint) {
+  JointLimit lim;
+  if (joint.limits && joint.type != urdf::Joint::CONTINUOUS) {
+    lim.lower = joint.limits->lower;
+    lim.upper = joint.limits->upper;
+  }
+  if (joint.limits && joint.limits->velocity > 0) lim.velocity = joint.limits->velocity;
+  if (joint.limits && joint.limits->effort > 0) lim.effort = joint.limits->effort;
+  return lim;
 }
 
-Status model_from_urdf_string(const std::string& xml, const std::string& root,
-                              const std::string& tip, const std::map<std::string, double>& locked,
-                              RobotModel* out, std::string* why, const std::string& source) {
+JointKind kind_of(const urdf::Joint& joint) {
+  switch (joint.type) {
+    case urdf::Joint::REVOLUTE:
+    case urdf::Joint::CONTINUOUS:
+      return JointKind::kRevolute;
+    case urdf::Joint::PRISMATIC:
+      return JointKind::kPrismatic;
+    default:
+      return JointKind::kFixed;  // kdl_parser's rule for every other type
+  }
+}
+
+PoseSpec pose_of(const urdf::Pose& p) {
+  return PoseSpec{{p.position.x, p.position.y, p.position.z},
+                  {p.rotation.x, p.rotation.y, p.rotation.z, p.rotation.w}};
+}
+
+}  // namespace
+
+Status description_from_urdf_string(const std::string& xml, UrdfDescription* out, std::string* why,
+                                    const std::string& source) {
+  if (out == nullptr) return fail(why, "description_from_urdf_string: null output");
   urdf::ModelInterfaceSharedPtr urdf_model;
   std::string parse_errors;
   {
@@ -80,52 +104,67 @@ Status model_from_urdf_string(const std::string& xml, const std::string& root,
   if (!urdf_model)
     return fail(why, "invalid URDF " + source + ": " +
                          (parse_errors.empty() ? std::string("parse failed") : parse_errors));
-
-  std::map<std::string, JointLimit> limits;
-  std::set<std::string> mimic;
   for (const auto& [name, joint] : urdf_model->joints_) {
     if (joint->type == urdf::Joint::FLOATING || joint->type == urdf::Joint::PLANAR)
       return fail(why, "URDF " + source + ": joint '" + name +
                            "' is floating/planar; model a floating base without a URDF joint");
-    // A mimic joint is an ordinary joint to kdl_parser; only a controlled one is a problem.
-    if (joint->mimic) mimic.insert(name);
-    JointLimit lim;
-    if (joint->limits && joint->type != urdf::Joint::CONTINUOUS) {
-      lim.lower = joint->limits->lower;
-      lim.upper = joint->limits->upper;
-    }
-    // URDF writes 0 for "not given" velocity/effort on continuous joints.
-    if (joint->limits && joint->limits->velocity > 0) lim.velocity = joint->limits->velocity;
-    if (joint->limits && joint->limits->effort > 0) lim.effort = joint->limits->effort;
-    limits[name] = lim;
   }
-
-  const std::string urdf_root = urdf_model->getRoot()->name;
+  out->names_.clear();
+  out->segments_.clear();
+  auto keep = [out](const std::string& name) { return out->names_.emplace_back(name).c_str(); };
+  const char* urdf_root = keep(urdf_model->getRoot()->name);
   const bool restored = restore_root_inertia(*urdf_model);
-  KDL::Tree tree;
-  {
-    CapturedLog log;  // kdl_parser's warnings are not ours to print
-    if (!kdl_parser::treeFromUrdfModel(*urdf_model, tree))
-      return fail(why, "URDF " + source + ": kdl_parser could not build a KDL tree");
+  const char* tree_root = keep(urdf_model->getRoot()->name);
+
+  // Depth first, children in urdfdom's order: the order kdl_parser adds segments in.
+  std::vector<urdf::LinkConstSharedPtr> stack(urdf_model->getRoot()->child_links.rbegin(),
+                                              urdf_model->getRoot()->child_links.rend());
+  while (!stack.empty()) {
+    const urdf::LinkConstSharedPtr link = stack.back();
+    stack.pop_back();
+    const urdf::Joint& joint = *link->parent_joint;
+    SegmentSpec s{};
+    s.link = keep(link->name);
+    s.joint = keep(joint.name);
+    s.parent = keep(joint.parent_link_name);
+    s.kind = kind_of(joint);
+    s.origin = pose_of(joint.parent_to_joint_origin_transform);
+    s.axis[0] = joint.axis.x;
+    s.axis[1] = joint.axis.y;
+    s.axis[2] = joint.axis.z;
+    s.has_inertial = static_cast<bool>(link->inertial);
+    if (link->inertial) {
+      const urdf::Inertial& i = *link->inertial;
+      s.mass = i.mass;
+      s.inertial = pose_of(i.origin);
+      const double inertia[6] = {i.ixx, i.iyy, i.izz, i.ixy, i.ixz, i.iyz};
+      for (int k = 0; k < 6; ++k) s.inertia[k] = inertia[k];
+    } else {
+      s.inertial = PoseSpec{{0.0, 0.0, 0.0}, {0.0, 0.0, 0.0, 1.0}};
+    }
+    s.limit = limit_of(joint);
+    s.mimic = static_cast<bool>(joint.mimic);
+    out->segments_.push_back(s);
+    stack.insert(stack.end(), link->child_links.rbegin(), link->child_links.rend());
   }
-  const Status s =
-      RobotModel::create(tree, root.empty() ? urdf_root : root, tip, limits, locked, out, why);
-  if (failed(s)) {
-    if (why) *why = "URDF " + source + ": " + *why;
-    return s;
-  }
-  for (const std::string& joint : out->joint_names()) {
-    if (!mimic.count(joint)) continue;
-    if (!out->has_chain())
-      return fail(why, "URDF " + source + ": mimic joint '" + joint +
-                           "' would be controlled (no tip given: every joint is); give a tip so "
-                           "that it is off the chain");
-    return fail(why, "URDF " + source + ": mimic joint '" + joint + "' is in the chain '" +
-                         out->root_name() + "' -> '" + out->tip_name() +
-                         "'; a controlled chain cannot contain a mimic joint (off the chain it is locked)");
-  }
-  out->set_root_inertia_restored(restored);
-  return s;
+  out->description_ = ModelDescription{tree_root, urdf_root, restored, out->segments_.data(),
+                                       static_cast<int>(out->segments_.size())};
+  return Status::kOk;
+}
+
+Status model_from_urdf_string(const std::string& xml, const std::string& root,
+                              const std::string& tip, RobotModel* out, std::string* why,
+                              const std::string& source) {
+  return model_from_urdf_string(xml, root, tip, {}, out, why, source);
+}
+
+Status model_from_urdf_string(const std::string& xml, const std::string& root,
+                              const std::string& tip, const std::map<std::string, double>& locked,
+                              RobotModel* out, std::string* why, const std::string& source) {
+  UrdfDescription urdf;
+  const Status s = description_from_urdf_string(xml, &urdf, why, source);
+  if (failed(s)) return s;
+  return model_from_description(urdf.description(), root, tip, locked, out, why, source);
 }
 
 Status model_from_urdf_file(const std::string& path, const std::string& root,

@@ -105,6 +105,48 @@ def cmd_robot_check(args) -> int:
     return check(args.file)
 
 
+def _robot_sets(items) -> dict:
+    """--set KEY=VALUE items as a dict (scenarios.prepare splits robot-file and scenario keys)."""
+    for item in items:
+        if "=" not in item:
+            raise ValueError(f"--set {item!r}: expected KEY=VALUE")
+    return dict(item.split("=", 1) for item in items)
+
+
+def cmd_export(args) -> int:
+    from .firmware.export import write_export
+    from .firmware.families import family_of
+    from .firmware.recording import record_sil_run
+    from .robot import Robot
+
+    try:
+        robot = Robot.load(args.robot)
+        family = family_of(robot)
+        # The controller exactly as the family's scenario configures it (a few ticks suffice).
+        rec = record_sil_run(robot, family, duration=0.01, sets=_robot_sets(args.set))
+    except (KeyError, ValueError) as e:
+        print(f"kiloloop export: {e.args[0]}", file=sys.stderr)
+        return 2
+    header = write_export(robot, family, rec.controller.model, rec.controller.config, args.out,
+                          {"scenario": family.scenario})
+    print(f"exported {robot.name} ({family.name}, {family.controller}): {header}, "
+          f"{header.parent / 'manifest.json'}")
+    return 0
+
+
+def cmd_b2b(args) -> int:
+    from .firmware.b2b import run_b2b
+    from .firmware.build import BuildError
+
+    try:
+        result = run_b2b(args.robot, duration=args.duration, seed=args.seed,
+                         sets=_robot_sets(args.set), work=args.work)
+    except (KeyError, ValueError, BuildError) as e:
+        print(f"kiloloop b2b: {e.args[0]}", file=sys.stderr)
+        return 2
+    return 0 if result.identical and result.model_identical else 1
+
+
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(prog="kiloloop", description=__doc__)
     sub = parser.add_subparsers(dest="command", required=True)
@@ -152,6 +194,22 @@ def main(argv=None) -> int:
     check = robot_sub.add_parser("check", help="load everything, print what was derived")
     check.add_argument("file", metavar="NAME|FILE")
     check.set_defaults(func=cmd_robot_check)
+    export = sub.add_parser("export", help="a robot and its controller settings as one C++ header")
+    export.add_argument("robot", metavar="NAME|FILE")
+    export.add_argument("--out", required=True, metavar="DIR",
+                        help="writes DIR/robot_export.hpp and DIR/manifest.json")
+    export.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",
+                        help="robot-file or scenario override, as in `kiloloop run`")
+    export.set_defaults(func=cmd_export)
+    b2b = sub.add_parser("b2b", help="back-to-back: SIL log replayed through the exported "
+                                     "firmware, outputs compared bit for bit")
+    b2b.add_argument("robot", metavar="NAME|FILE")
+    b2b.add_argument("--duration", type=float, default=1.0, help="simulated time [s] (default 1)")
+    b2b.add_argument("--seed", type=int, default=0)
+    b2b.add_argument("--set", action="append", default=[], metavar="KEY=VALUE")
+    b2b.add_argument("--work", default=None, metavar="DIR",
+                     help="build directory (default: build/firmware of the source tree)")
+    b2b.set_defaults(func=cmd_b2b)
     args = parser.parse_args(argv)
     return args.func(args)
 

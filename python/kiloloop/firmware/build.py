@@ -1,0 +1,87 @@
+"""CMake steps of the firmware path, incremental in one work directory (default build/firmware of
+the kiloloop source tree):
+
+    core/      the core built with -fno-exceptions -fno-rtti (no URDF loader, no Python): every
+               real-time translation unit (controllers, QP, model, dynamics) compiled as firmware
+               compiles it
+    prefix/    its install: what find_package(kiloloop) finds
+    <robot>/   the robot's export, b2b log and firmware build (examples/firmware)
+"""
+from __future__ import annotations
+
+import os
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+RT_FLAGS = "-fno-exceptions -fno-rtti"
+
+
+class BuildError(RuntimeError):
+    """A CMake step failed; the message carries the command and the tail of its output."""
+
+
+def source_root() -> Path:
+    """The kiloloop source tree: $KILOLOOP_SOURCE, else the first directory from the current one
+    upwards whose CMakeLists.txt is kiloloop's."""
+    env = os.environ.get("KILOLOOP_SOURCE")
+    candidates = [Path(env)] if env else [Path.cwd(), *Path.cwd().parents]
+    for d in candidates:
+        cml = d / "CMakeLists.txt"
+        if cml.is_file() and "project(kiloloop " in cml.read_text() and (d / "examples/firmware").is_dir():
+            return d.resolve()
+    raise BuildError("the kiloloop source tree (CMakeLists.txt, examples/firmware) was not found: "
+                     "run from inside it or set KILOLOOP_SOURCE")
+
+
+def _tool(name: str) -> str:
+    search = os.pathsep.join([str(Path(sys.executable).parent), os.environ.get("PATH", "")])
+    found = shutil.which(name, path=search)
+    if found is None:
+        raise BuildError(f"{name} not found (pip install cmake ninja)")
+    return found
+
+
+def _generator() -> list[str]:
+    try:
+        return ["-G", "Ninja", f"-DCMAKE_MAKE_PROGRAM={_tool('ninja')}"]
+    except BuildError:
+        return []
+
+
+def _run(cmd: list) -> str:
+    proc = subprocess.run([str(c) for c in cmd], capture_output=True, text=True)
+    if proc.returncode != 0:
+        raise BuildError(f"failed (exit {proc.returncode}): {' '.join(map(str, cmd))}\n"
+                         f"{(proc.stdout + proc.stderr)[-4000:]}")
+    return proc.stdout
+
+
+def install_rt_core(source: Path, work: Path, jobs: int = 2) -> Path:
+    """Builds (incrementally) and installs the no-exceptions core; returns the install prefix."""
+    cmake = _tool("cmake")
+    core, prefix = work / "core", work / "prefix"
+    if not (core / "CMakeCache.txt").is_file():
+        _run([cmake, "-S", source, "-B", core, *_generator(), "-DCMAKE_BUILD_TYPE=Release",
+              f"-DCMAKE_CXX_FLAGS={RT_FLAGS}", "-DKILOLOOP_BUILD_URDF=OFF",
+              "-DKILOLOOP_BUILD_PYTHON=OFF", "-DKILOLOOP_BUILD_BENCH=OFF",
+              "-DKILOLOOP_BUILD_TESTS=OFF", "-DKILOLOOP_BUILD_FUZZ=OFF"])
+    _run([cmake, "--build", core, "--parallel", str(jobs)])
+    _run([cmake, "--install", core, "--prefix", prefix, "--component", "dev"])
+    return prefix
+
+
+def build_firmware(source: Path, prefix: Path, export_dir: Path, build_dir: Path) -> Path:
+    """Builds examples/firmware against `prefix` for the header in `export_dir`; the executable."""
+    cmake = _tool("cmake")
+    if not (build_dir / "CMakeCache.txt").is_file():
+        _run([cmake, "-S", source / "examples" / "firmware", "-B", build_dir, *_generator(),
+              "-DCMAKE_BUILD_TYPE=Release", f"-DCMAKE_PREFIX_PATH={prefix}",
+              f"-DKILOLOOP_EXPORT_DIR={export_dir}"])
+    _run([cmake, "--build", build_dir])
+    return build_dir / "kiloloop_firmware"
+
+
+def run_firmware(exe: Path, *args) -> subprocess.CompletedProcess:
+    return subprocess.run([str(exe), *map(str, args)], capture_output=True, text=True)

@@ -1,0 +1,34 @@
+"""Per robot family: the compiled controller its firmware runs, the SIL scenario that exercises it
+for a back-to-back check, and the settings that scenario needs for it (the arm's per-tick Python
+loop: the native loop hands the controller to C++, where no Python wrapper can log its steps;
+both loops give the same log, tests/test_native_arm.py)."""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+
+@dataclass(frozen=True)
+class Family:
+    name: str              # robot file kind
+    controller: str        # class in kiloloop (and C++ kiloloop::)
+    input: str             # C++ input and output types
+    output: str
+    header: str            # the controller's C++ header
+    scenario: str          # SIL scenario of the b2b run
+    settings: dict = field(default_factory=dict)
+
+
+FAMILIES = {
+    "arm": Family("arm", "ComputedTorqueController", "JointControlInput", "JointControlOutput",
+                  "kiloloop/control/computed_torque.hpp", "arm-track", {"native": False}),
+    "quadruped": Family("quadruped", "QuadrupedController", "QuadrupedInput", "QuadrupedOutput",
+                        "kiloloop/quadruped/quadruped_controller.hpp", "quadruped-stand"),
+    "aerial": Family("aerial", "AerialController", "AerialInput", "AerialOutput",
+                     "kiloloop/aerial/aerial_controller.hpp", "aerial-hover"),
+}
+
+
+def family_of(robot) -> Family:
+    if robot.kind not in FAMILIES:
+        raise ValueError(f"{robot.path}: kind {robot.kind!r} has no firmware family")
+    return FAMILIES[robot.kind]
