@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 #include <type_traits>
+#include <vector>
 
 namespace kiloloop {
 namespace {
@@ -42,40 +43,54 @@ const char* kind_name(JointKind k) {
   }
 }
 
-// "gait.period" -> "gait_period", "feet[0]" -> "feet_0_": a member name for a field path.
-std::string identifier(const char* path) {
-  std::string id;
-  for (const char* c = path; *c; ++c) id += std::isalnum(static_cast<unsigned char>(*c)) ? *c : '_';
-  return id;
+// "gait.period" -> {"gait", "period"}, "feet[0]" -> {"feet_0"}: member names along a field path.
+std::vector<std::string> members_of(const char* path) {
+  std::vector<std::string> out(1);
+  for (const char* c = path; *c; ++c) {
+    if (*c == '.') out.emplace_back();
+    else if (*c == '[') out.back() += '_';
+    else if (*c != ']') out.back() += *c;
+  }
+  return out;
 }
 
-// One constexpr member and one make_config() line per config field.
+std::string joined(const std::vector<std::string>& parts) {
+  std::string s;
+  for (const auto& p : parts) s += (s.empty() ? "" : ".") + p;
+  return s;
+}
+
+// One constexpr member per config field, nested like the config ("gait.period" is
+// kSettings.gait.period), and one make_config() line per field.
 class SettingsEmitter {
  public:
   template <class T>
   void operator()(const char* path, const T& x) {
-    const std::string id = identifier(path);
+    std::vector<std::string> member = members_of(path);
+    enter(std::vector<std::string>(member.begin(), member.end() - 1));
+    const std::string name = member.back(), access = "kSettings." + joined(member);
     if constexpr (std::is_same_v<T, double>) {
-      scalar("double", id, path, literal(x));
+      scalar("double", name, path, access, literal(x));
     } else if constexpr (std::is_same_v<T, bool>) {
-      scalar("bool", id, path, x ? "true" : "false");
+      scalar("bool", name, path, access, x ? "true" : "false");
     } else if constexpr (std::is_same_v<T, int>) {
-      scalar("int", id, path, std::to_string(x));
+      scalar("int", name, path, access, std::to_string(x));
     } else if constexpr (std::is_enum_v<T>) {
-      scalar("int", id, path, std::to_string(static_cast<int>(x)));
+      scalar("int", name, path, access, std::to_string(static_cast<int>(x)));
     } else if constexpr (std::is_same_v<T, std::string>) {
-      scalar("const char*", id, path, quoted(x));
+      scalar("const char*", name, path, access, quoted(x));
     } else {  // an Eigen matrix or vector, column-major
       std::string values;
       for (Eigen::Index k = 0; k < x.size(); ++k) values += (k ? ", " : "") + literal(x.data()[k]);
-      members_ += "  double " + id + "[" + std::to_string(std::max<Eigen::Index>(x.size(), 1)) +
-                  "] = {" + values + "};\n";
-      assigns_ += "  kiloloop::set_setting(c." + std::string(path) + ", kSettings." + id + ", " +
+      members_ += indent() + "double " + name + "[" +
+                  std::to_string(std::max<Eigen::Index>(x.size(), 1)) + "] = {" + values + "};\n";
+      assigns_ += "  kiloloop::set_setting(c." + std::string(path) + ", " + access + ", " +
                   std::to_string(x.rows()) + ", " + std::to_string(x.cols()) + ");\n";
     }
   }
 
-  std::string source(const char* config_type) const {
+  std::string source(const char* config_type) {
+    enter({});
     return "// Every controller setting, as the SIL run configured it.\nstruct Settings {\n" +
            members_ + "};\ninline constexpr Settings kSettings{};\n\n// The runtime config.\ninline " +
            config_type + " make_config() {\n  " + config_type + " c;\n" + assigns_ +
@@ -83,18 +98,35 @@ class SettingsEmitter {
   }
 
  private:
-  void scalar(const char* type, const std::string& id, const char* path, const std::string& value) {
-    members_ += "  " + std::string(type) + " " + id + " = " + value + ";\n";
-    assigns_ += "  kiloloop::set_setting(c." + std::string(path) + ", kSettings." + id + ");\n";
+  // Closes the nested structs that `scope` leaves and opens those it enters.
+  void enter(const std::vector<std::string>& scope) {
+    std::size_t common = 0;
+    while (common < open_.size() && common < scope.size() && open_[common] == scope[common]) ++common;
+    while (open_.size() > common) {
+      const std::string name = open_.back();
+      open_.pop_back();
+      members_ += indent() + "} " + name + ";\n";
+    }
+    for (std::size_t k = common; k < scope.size(); ++k) {
+      members_ += indent() + "struct {\n";
+      open_.push_back(scope[k]);
+    }
+  }
+  std::string indent() const { return std::string(2 * (open_.size() + 1), ' '); }
+  void scalar(const char* type, const std::string& name, const char* path,
+              const std::string& access, const std::string& value) {
+    members_ += indent() + type + " " + name + " = " + value + ";\n";
+    assigns_ += "  kiloloop::set_setting(c." + std::string(path) + ", " + access + ");\n";
   }
 
   std::string members_, assigns_;
+  std::vector<std::string> open_;  // the nested structs open at the end of members_
 };
 
 template <class Config>
 std::string emit(const Config& config, const char* type) {
   SettingsEmitter emitter;
-  visit_fields(const_cast<Config&>(config), emitter);
+  visit_fields(const_cast<Config&>(config), emitter);  // the lists only read
   return emitter.source(type);
 }
 
