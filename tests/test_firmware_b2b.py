@@ -23,13 +23,13 @@ WORK = ROOT / "build" / "firmware"
 DURATION = 0.3  # [s] 300 ticks: short, and past every controller's start-up transient
 
 
-def _check(robot, duration=DURATION):
+def _check(robot, duration=DURATION, chains=1):
     result = run_b2b(robot, duration=duration, work=WORK, echo=lambda *_: None)
     ticks = int(round(duration * 1000))
     assert result.ticks == ticks
     assert result.replay_output == f"bit-identical: {ticks} ticks", result.replay_output
     assert result.identical
-    assert result.model_chains >= 1 and result.model_identical
+    assert result.model_chains >= chains and result.model_identical
 
 
 @pytest.mark.parametrize("robot", ["ur5", "quadruped", "aerial_manipulator"])
@@ -53,8 +53,9 @@ def test_b2b_example_robot_data_arms(tmp_path, name):
 
 
 def test_b2b_aerial_test_robots(tmp_path):
-    for path in aerial_test_robots.write_all(tmp_path).values():
-        _check(path, duration=0.1)
+    for name, path in aerial_test_robots.write_all(tmp_path).items():
+        # iris is rigid: no joint-space dynamics to compare (its outputs are compared)
+        _check(path, duration=0.1, chains=0 if name == "iris" else 1)
 
 
 def test_two_sil_runs_give_the_same_log_hash(tmp_path):
