@@ -57,6 +57,8 @@ def _headline(name: str, m: dict) -> str:
     text = f"{k} {m[k]:.4g}" if k in m else ""
     if name in ("quadruped-stones", "quadruped-compliant", "quadruped-rough") and "max_slip_radii" in m:
         text += f"; roll/pitch RMS {m['roll_pitch_rms_deg']:.3g} deg; slip {m['max_slip_radii']:.2f} radii"
+        if "max_sinkage_m" in m:
+            text += f"; sinkage {m['max_sinkage_m'] * 1e3:.0f} mm"
     if name == "quadruped-turn" and "peak_load_FL_bw" in m:
         text += "; peak load FL/FR/RL/RR " + "/".join(
             f"{m['peak_load_' + leg + '_bw']:.2f}" for leg in ("FL", "FR", "RL", "RR")) + " x weight"
