@@ -195,11 +195,16 @@ class Compliant:
         _add_plane(spec, BASE, 0.0, friction)
 
     def configure(self, model, robot_geoms) -> None:
-        """Per-geom solref in MuJoCo's direct form (-k', -b'): at rest the solver's force on a
-        contact is R^-1 (k' r + b' v) / ... with R = (1 - d)/d A, so k' = stiffness (1 - d) A and
-        b' = damping (1 - d) A give stiffness [N/m] and damping [N s/m] whatever the foot's
-        constraint mass. A = the foot body's translational invweight0 (MuJoCo's diagonal
-        approximation for a contact normal against the static world)."""
+        """Per-geom solref in MuJoCo's direct form (-k', -b') and a constant impedance d.
+
+        MuJoCo scales them to K = k'/d^2, B = b'/d and asks for the reference acceleration
+        aref = -B v - K d r (r: penetration, v: its rate); its normal force f solves
+        R f = aref - a with R = (1 - d)/d A, so with the contact not accelerating (a = 0)
+        f = -(k' r + b' v) / ((1 - d) A). Hence k' = stiffness (1 - d) A and b' = damping (1 - d) A
+        give stiffness [N/m] and damping [N s/m] whatever the geom's constraint mass. A: the
+        geom's body's translational invweight0, MuJoCo's approximation for a contact normal
+        against the static world (a constant of the model). robot_geoms: every robot geom that
+        can touch the ground (a shank sunk into soft ground bears on it too)."""
         if model.opt.cone != mujoco.mjtCone.mjCONE_ELLIPTIC:
             # A pyramidal cone has no normal row of its own: the relation above does not hold
             # (measured: a 5 kg ball sank 0.26 mm instead of 49 mm).
