@@ -1,16 +1,17 @@
 """Terrains for the floating-base plant: a terrain spec -> MuJoCo geoms on an MjSpec, seeded, plus
 the ground height under any point so that scenarios can judge where the feet landed.
 
-Every terrain keeps a flat start pad at z = 0 around the origin (radius `pad` [m]), where the
-plant puts the robot standing (FloatingBasePlant._stand_pos assumes flat ground at z = 0), and a
-base plane below everything (nothing falls out of the world). Units SI, heights along world z.
+Every terrain is flat at z = 0 for x < `pad` [m] (Compliant: everywhere), where the plant puts the
+robot standing over the origin (FloatingBasePlant._stand_pos assumes flat ground at z = 0), and has
+a base plane below everything (nothing falls out of the world). Units SI, heights along world z;
+the rough and stony part runs along +x, the direction the scenarios trot.
 
   Stones     square stones (boxes, side `size`) on a grid, tops at random heights, seeded;
              `gap` [m] between neighbours, the base plane `depth` below the lowest top.
   Rough      a heightfield of smooth random bumps (peak |height| `amplitude`, correlation length
              `bump_length`), seeded.
-  Compliant  a flat floor whose normal stiffness per foot contact is `stiffness` [N/m]
-             (MuJoCo's soft contact calibrated with each foot's constraint mass; see configure).
+  Compliant  a flat floor whose normal stiffness per contact is `stiffness` [N/m] (MuJoCo's soft
+             contact calibrated with each robot geom's constraint mass; see configure).
 """
 from __future__ import annotations
 
@@ -172,9 +173,11 @@ class Rough:
 
 @dataclass(frozen=True)
 class Compliant:
-    """Flat floor at z = 0 whose normal force on a resting foot is stiffness x sinkage
-    (stiffness [N/m]) plus damping x sinkage rate, damping = 2 damping_ratio sqrt(stiffness
-    load_mass) [N s/m] (load_mass [kg]: the mass one foot carries; the scenario gives it)."""
+    """Flat floor at z = 0 whose normal force on each robot geom resting on it is stiffness x
+    sinkage (stiffness [N/m]) plus damping x sinkage rate, damping = 2 damping_ratio
+    sqrt(stiffness load_mass) [N s/m] (load_mass [kg]: the mass one foot carries; the scenario
+    gives it). A foot sunk deeper than its sphere reaches past the shank also bears on the shank
+    (a second contact, in parallel)."""
     stiffness: float = 1e3
     load_mass: float = 1.0
     damping_ratio: float = 1.0
