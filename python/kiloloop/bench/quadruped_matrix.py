@@ -20,6 +20,9 @@ ROWS = [  # (scenario, extra --set for the 35 ms column too)
     ("quadruped-tilt-stop", {}),
     ("quadruped-turn", {}),
     ("quadruped-slope-trot", {}),
+    ("quadruped-stones", {}),
+    ("quadruped-compliant", {}),
+    ("quadruped-rough", {}),
 ]
 DELAYS = (0.010, 0.035)
 
@@ -47,9 +50,15 @@ def _headline(name: str, m: dict) -> str:
     keys = {"quadruped-stand": "height_error_after_1s_m", "quadruped-trot": "roll_pitch_rms_deg",
             "quadruped-push": "roll_after_recovery_deg", "quadruped-slope": "foot_drift_m",
             "quadruped-tilt-stop": "ticks_late", "quadruped-turn": "yaw_rate_rms_error",
-            "quadruped-slope-trot": "velocity_rms_error_down"}
+            "quadruped-slope-trot": "velocity_rms_error_down",
+            "quadruped-stones": "velocity_rms_error", "quadruped-compliant": "velocity_rms_error",
+            "quadruped-rough": "velocity_rms_error"}
     k = keys.get(name)
     text = f"{k} {m[k]:.4g}" if k in m else ""
+    if name in ("quadruped-stones", "quadruped-compliant", "quadruped-rough") and "max_slip_radii" in m:
+        text += f"; roll/pitch RMS {m['roll_pitch_rms_deg']:.3g} deg; slip {m['max_slip_radii']:.2f} radii"
+        if "max_sinkage_m" in m:
+            text += f"; sinkage {m['max_sinkage_m'] * 1e3:.0f} mm"
     if name == "quadruped-turn" and "peak_load_FL_bw" in m:
         text += "; peak load FL/FR/RL/RR " + "/".join(
             f"{m['peak_load_' + leg + '_bw']:.2f}" for leg in ("FL", "FR", "RL", "RR")) + " x weight"

@@ -86,13 +86,14 @@ class FloatingBasePlant(FloatingBaseReadout):
     """A torque-controlled MuJoCo model of a floating-base (legged) URDF robot on a floor."""
 
     def __init__(self, urdf_path, overlay=None, *, timestep=None, slope_deg=None, floor=None,
-                 feet=None, package_dirs=(), notes: list | None = None):
+                 feet=None, package_dirs=(), notes: list | None = None, terrain=None):
         """overlay: path to a sim.toml, a dict of its sections, or None for the defaults.
 
         timestep [s], slope_deg [deg] (ground rising along +x), floor (bool) and feet (link names)
         override the overlay; feet defaults to the overlay's [feet] bodies (FL, FR, RL, RR).
         package_dirs: where package:// mesh URIs resolve; notes collects what the import changed
-        (meshes replaced, inertias repaired).
+        (meshes replaced, inertias repaired). terrain: a sil/terrain.py spec (Stones, Rough,
+        Compliant) that replaces the floor plane (flat start pad at z = 0; no slope with it).
         """
         urdf_path = Path(urdf_path)
         cfg = _load_overlay(overlay)
@@ -107,6 +108,9 @@ class FloatingBasePlant(FloatingBaseReadout):
         self.slope = np.deg2rad(float(fcfg["slope_deg"]))
         if not np.isfinite(self.slope) or abs(self.slope) >= np.pi / 2:
             raise ValueError(f"slope_deg: expected |slope| < 90, got {fcfg['slope_deg']!r}")
+        if terrain is not None and self.slope != 0.0:
+            raise ValueError("terrain: a terrain replaces the floor; slope_deg must be 0 with it")
+        self.terrain = terrain
         friction = float(fcfg["friction"])
         if not np.isfinite(friction) or friction < 0:
             raise ValueError(f"floor.friction: expected a non-negative number, got {friction!r}")
@@ -151,7 +155,9 @@ class FloatingBasePlant(FloatingBaseReadout):
                 geom.friction = [friction, *_SPIN_ROLL]
             body.add_site(name=f"{foot}_site")
 
-        if fcfg["enabled"]:
+        if terrain is not None and fcfg["enabled"]:
+            terrain.add_to(spec, friction)
+        elif fcfg["enabled"]:
             # Plane normal = its local z; Ry(-slope) turns it to (-sin a, 0, cos a).
             quat = [np.cos(-self.slope / 2), 0.0, np.sin(-self.slope / 2), 0.0]
             spec.worldbody.add_geom(name=_FLOOR, type=mujoco.mjtGeom.mjGEOM_PLANE,
@@ -174,6 +180,9 @@ class FloatingBasePlant(FloatingBaseReadout):
         self._geom_foot = np.full(m.ngeom, -1)
         for k, bid in enumerate(self._foot_ids):
             self._geom_foot[m.geom_bodyid == bid] = k
+        if terrain is not None and self.floor:
+            # Every robot geom that can touch the ground (contype 0, conaffinity 1; see above).
+            terrain.configure(m, np.flatnonzero((m.geom_bodyid > 0) & (m.geom_conaffinity == 1)))
 
         q0 = jcfg["q0"]
         self.q0 = np.zeros(self.nq) if q0 is None else self._vector(q0, "q0")
@@ -245,8 +254,11 @@ class FloatingBasePlant(FloatingBaseReadout):
         """Unit normal of the floor plane in the world frame (3,)."""
         return np.array([-np.sin(self.slope), 0.0, np.cos(self.slope)])
 
-    def ground_height(self, x: float) -> float:
-        """Floor height [m] at world x (the plane contains the world y axis)."""
+    def ground_height(self, x: float, y: float = 0.0) -> float:
+        """Floor height [m] at world (x, y): the terrain's, or the plane's (which contains the
+        world y axis)."""
+        if self.terrain is not None:
+            return self.terrain.height(float(x), float(y))
         return float(x) * np.tan(self.slope)
 
     # --- commands ----------------------------------------------------------------------------

@@ -26,6 +26,9 @@ class RigSettings:
     ground_truth: bool = False     # controller runs on the simulator's state (debugging only)
     config: object = None          # kl.QuadrupedConfig; None = from the robot file
     video: str | None = None       # MP4 path: render the run
+    # Ground other than a plane (sil/terrain.py), made from the resolved controller config so
+    # that its sizes follow the robot (e.g. stone heights from the swing height).
+    terrain: Callable[[object], object] | None = None
 
 
 def quadruped_paths():
@@ -61,7 +64,9 @@ class QuadrupedRig:
         self.fall_height = 0.5 * self.config.body_height
         self.plant = FloatingBasePlant(self.robot.urdf, plant_overlay(self.robot, self.controller),
                                        timestep=settings.physics_dt, slope_deg=settings.slope_deg,
-                                       package_dirs=self.robot.package_dirs)
+                                       package_dirs=self.robot.package_dirs,
+                                       terrain=None if settings.terrain is None
+                                       else settings.terrain(self.config))
         # Joint order: the controller's (leg-major) vs the plant's (URDF); mapped by name.
         plant_index = {name: i for i, name in enumerate(self.plant.joint_names)}
         self.to_ctrl = np.array([plant_index[n] for n in self.controller.joint_names])
@@ -158,7 +163,7 @@ COMMON_DEFAULTS = {
 
 
 def rig_from_settings(settings: dict, seed: int, slope_deg: float = 0.0, config=None,
-                      robot=None) -> QuadrupedRig:
+                      robot=None, terrain=None) -> QuadrupedRig:
     nonideal = NonIdealities(enabled=settings["nonideal"], gyro_sigma=settings["gyro_sigma"],
                              accel_sigma=settings["accel_sigma"],
                              encoder_resolution=float(np.deg2rad(settings["encoder_resolution_deg"])),
@@ -166,7 +171,7 @@ def rig_from_settings(settings: dict, seed: int, slope_deg: float = 0.0, config=
     nonideal.validate()
     return QuadrupedRig(RigSettings(slope_deg=slope_deg, physics_dt=settings["physics_dt"],
                                     nonideal=nonideal, ground_truth=settings["ground_truth"],
-                                    config=config, video=settings.get("video")),
+                                    config=config, video=settings.get("video"), terrain=terrain),
                         seed=seed, robot=robot)
 
 
