@@ -61,6 +61,8 @@ Status validate(const QuadrupedConfig& c, std::string* why) {
       !(c.fz_min >= 0) || !(c.fz_max > c.fz_min))
     return fail("weight fractions: need contact_force_on > contact_force_off >= 0, fz_max > fz_min >= 0");
   if (!(c.trunk_delay_margin > 0)) return fail("trunk_delay_margin must be > 0");
+  if (!(c.swing_prediction_residual >= 0 && c.swing_prediction_residual <= 1))
+    return fail("swing_prediction_residual must be in [0, 1]");
   if (!(c.swing_frequency > 0) || !(c.swing_damping >= 0) || !(c.swing_delay_margin > 0) ||
       !(c.swing_kp.array() >= 0).all() || !(c.swing_kd.array() >= 0).all())
     return fail("swing_frequency, swing_delay_margin > 0; swing_damping, swing_kp, swing_kd >= 0");
@@ -223,13 +225,18 @@ Status QuadrupedController::configure(const QuadrupedConfig& config, RobotModelP
       for (int k = 0; k < 3; ++k) q(k) = c.stand_q_[3 * i + k];
       dyn.JntToMass(q, H);
       for (int k = 0; k < 3; ++k) inertia[k] += 0.25 * H(k, k);
+      c.leg_mass_inverse_[i] = Eigen::Matrix3d(H.data).inverse();
     }
     c.swing_inertia_ = inertia;
     const double w = cfg.swing_frequency;
     if (cfg.swing_kp.isZero()) cfg.swing_kp = inertia * w * w;
     if (cfg.swing_kd.isZero()) cfg.swing_kd = 2.0 * cfg.swing_damping * w * inertia;
+    // With the joint predictor only its error is left of the delay inside the loop.
+    const double unpredicted = cfg.predict_swing ? cfg.swing_prediction_residual : 1.0;
+    const double t_swing_loop = unpredicted * cfg.actuation_delay + cfg.dt;
     for (int j = 0; j < 3; ++j)
-      if (inertia[j] > 0) cap(cfg.swing_kp[j], cfg.swing_kd[j], inertia[j], cfg.swing_delay_margin / t_loop);
+      if (inertia[j] > 0)
+        cap(cfg.swing_kp[j], cfg.swing_kd[j], inertia[j], cfg.swing_delay_margin / t_swing_loop);
   }
   // Safe stop from the effort limits.
   for (int k = 0; k < 12; ++k) {
@@ -253,6 +260,9 @@ Status QuadrupedController::configure(const QuadrupedConfig& config, RobotModelP
   const int n_flight = static_cast<int>(std::floor(cfg.actuation_delay / cfg.dt + 0.5 + 1e-9));
   c.tau_in_flight_.configure(n_flight, Vector12d::Zero());
   c.accel_in_flight_.configure(n_flight, Vector6d::Zero());
+  c.qdd_in_flight_.configure(n_flight, Vector12d::Zero());
+  c.schedule_in_flight_.configure(n_flight, c.gait_.legs());
+  c.acting_schedule_ = c.gait_.legs();
   c.configured_ = true;
   *out = std::move(c);
   return Status::kOk;
@@ -261,10 +271,13 @@ Status QuadrupedController::configure(const QuadrupedConfig& config, RobotModelP
 Status QuadrupedController::step(const QuadrupedInput& in, QuadrupedOutput& out) noexcept {
   if (!configured_) return out.status = Status::kNotConfigured;
   tick_.accel.setZero();
+  tick_.qdd.setZero();
   out.status = run(in, out);
   // Whatever was sent is now in flight (held and safe outputs included).
   tau_in_flight_.push(out.tau);
   accel_in_flight_.push(tick_.accel);
+  qdd_in_flight_.push(tick_.qdd);
+  schedule_in_flight_.push(gait_.legs());
   return out.status;
 }
 
@@ -305,6 +318,7 @@ Status QuadrupedController::run(const QuadrupedInput& in, QuadrupedOutput& out) 
   distribute_forces(out);
   stance_legs(out);
   saturate(out.tau, &tick_.status);
+  swing_joint_accelerations(out.tau);
   tau_prev_ = out.tau;
   have_output_ = true;
   return tick_.status;
@@ -367,7 +381,9 @@ void QuadrupedController::leg_kinematics(const QuadrupedInput& in) noexcept {
 void QuadrupedController::detect_contacts(const QuadrupedInput& in, QuadrupedOutput& out) noexcept {
   Tick& k = tick_;
   gait_.update(in.t, k.requested);
-  const auto& schedule = gait_.legs();
+  // The robot moves as the commands acting now say: those sent a delay ago, with their schedule.
+  acting_schedule_ = schedule_in_flight_.size() > 0 ? schedule_in_flight_.oldest(0) : gait_.legs();
+  const auto& schedule = acting_schedule_;
   const Eigen::Matrix3d R_prev = estimator_.rotation();
   const Eigen::Vector3d n_prev = estimator_.ground_normal();
   const Eigen::Vector3d p_prev = estimator_.position();
@@ -415,10 +431,9 @@ void QuadrupedController::estimate_state(const QuadrupedInput& in, QuadrupedOutp
   out.velocity = k.v;
   out.quat = to_wxyz(estimator_.orientation());
   out.ground_normal = estimator_.ground_normal();
-  const auto& schedule = gait_.legs();
   for (int i = 0; i < kLegs; ++i) {
     out.contact[i] = contacts_.contact(i);
-    out.scheduled[i] = schedule[i].stance;
+    out.scheduled[i] = acting_schedule_[i].stance;
   }
 }
 
@@ -462,7 +477,7 @@ void QuadrupedController::trunk_wrench(QuadrupedOutput& out) noexcept {
   const auto& schedule = gait_.legs();
   k.n_stance = 0;
   for (int i = 0; i < kLegs; ++i) {
-    k.stance[i] = schedule[i].stance && contacts_.contact(i);
+    k.stance[i] = commanded_stance(i);
     k.n_stance += k.stance[i];
     // Time since the scheduled touch-down (standing counts as long ago).
     stance_time_[i] = schedule[i].stance ? std::min(stance_time_[i] + cfg_.dt, 1e3) : 0.0;
@@ -474,21 +489,10 @@ void QuadrupedController::trunk_wrench(QuadrupedOutput& out) noexcept {
   // first order, plus (predict_in_flight) what the commands still in flight will do to it.
   const double tau_d = cfg_.actuation_delay;
   const Eigen::Matrix3d& R = k.R;
-  Eigen::Vector3d dv = Eigen::Vector3d::Zero(), dp = Eigen::Vector3d::Zero();  // world
-  Eigen::Vector3d dw = Eigen::Vector3d::Zero(), dth = Eigen::Vector3d::Zero(); // world
-  if (cfg_.predict_in_flight) {
-    const int n = accel_in_flight_.size();
-    for (int j = 0; j < n; ++j) {
-      // Command j acts during [j, j + 1) ticks from now: its velocity change dt a counts fully,
-      // its position change for the (n - j - 0.5) ticks left until the new command lands.
-      const Vector6d& a = accel_in_flight_.oldest(j);
-      const double lever = (n - j - 0.5) * cfg_.dt * cfg_.dt;
-      dv += cfg_.dt * a.head<3>();
-      dp += lever * a.head<3>();
-      dw += cfg_.dt * a.tail<3>();
-      dth += lever * a.tail<3>();
-    }
-  }
+  InFlightEffect<Vector6d> e{Vector6d::Zero(), Vector6d::Zero()};  // world
+  if (cfg_.predict_in_flight) e = in_flight_effect(accel_in_flight_, cfg_.dt);
+  const Eigen::Vector3d dv = e.velocity.head<3>(), dp = e.position.head<3>();
+  const Eigen::Vector3d dw = e.velocity.tail<3>(), dth = e.position.tail<3>();
   const Eigen::Vector3d v_pred = k.v + dv;
   Eigen::Vector3d e_p = p_des_ - (k.p + tau_d * k.v + dp);
   double height = tau_d * k.v.z() + dp.z();
@@ -506,6 +510,10 @@ void QuadrupedController::trunk_wrench(QuadrupedOutput& out) noexcept {
       (Eigen::Quaterniond(1.0, half_turn.x(), half_turn.y(), half_turn.z()) * estimator_.orientation())
           .normalized();
   const Eigen::Vector3d w_pred_body = k.w_body + R.transpose() * dw;
+  k.p_pred = k.p + tau_d * k.v + dp;
+  k.v_pred = v_pred;
+  k.R_pred = q_pred.toRotationMatrix();
+  k.w_pred_body = w_pred_body;
   Eigen::Quaterniond q_err = q_des * q_pred.conjugate();  // world frame error
   if (q_err.w() < 0) q_err.coeffs() = -q_err.coeffs();  // shortest path
   const Eigen::Vector3d e_R_body = R.transpose() * (2.0 * q_err.vec());
@@ -517,6 +525,13 @@ void QuadrupedController::trunk_wrench(QuadrupedOutput& out) noexcept {
   (void)out;
 }
 
+// Stance is commanded where the schedule says so and the foot is on the ground, or is still in
+// the swing that the commands acting now drive and lands by the time this command does (both
+// schedules agree once the delay has passed: a foot still in the air then is late).
+bool QuadrupedController::commanded_stance(int leg) const noexcept {
+  return gait_.legs()[leg].stance && (contacts_.contact(leg) || !acting_schedule_[leg].stance);
+}
+
 // 8. Swing legs (and stance legs still looking for the ground): foothold, swing, IK, joint PD.
 // Their motors push back on the trunk: the abduction and hip-pitch torques beyond gravity
 // compensation are a moment on the trunk that the stance feet must cancel (measured: the swing
@@ -524,19 +539,30 @@ void QuadrupedController::trunk_wrench(QuadrupedOutput& out) noexcept {
 void QuadrupedController::swing_legs(const QuadrupedInput& in, QuadrupedOutput& out) noexcept {
   Tick& k = tick_;
   const auto& schedule = gait_.legs();
-  const Eigen::Matrix3d& R = k.R;
-  const Eigen::Vector3d &p = k.p, &v = k.v;
+  // The schedule runs for the commands: a swing command lands a delay later, so the foot's
+  // reference and the state it is compared with are both taken there: the trunk and the swing
+  // joints predicted one delay ahead (predict_swing), or the trunk now and the joints to first
+  // order (q + delay qd, qd).
+  const bool predict = cfg_.predict_swing;
+  const Eigen::Matrix3d& R = predict ? k.R_pred : k.R;
+  const Eigen::Vector3d& p = predict ? k.p_pred : k.p;
+  const Eigen::Vector3d& v = predict ? k.v_pred : k.v;
+  const Eigen::Vector3d& w_body = predict ? k.w_pred_body : k.w_body;
   const double tau_d = cfg_.actuation_delay;
   const double t_swing = gait_.swing_duration(), t_stance = gait_.stance_duration();
+  InFlightEffect<Vector12d> joints{Vector12d::Zero(), Vector12d::Zero()};
+  if (predict) joints = in_flight_effect(qdd_in_flight_, cfg_.dt);
   k.swing_reaction.setZero();  // trunk frame [N m]
   for (int i = 0; i < kLegs; ++i) {
     if (k.stance[i]) continue;
     const Eigen::Vector3d q = in.q.segment<3>(3 * i), qd = in.qd.segment<3>(3 * i);
+    const Eigen::Vector3d q_pred = q + tau_d * qd + joints.position.segment<3>(3 * i);
+    const Eigen::Vector3d qd_pred = qd + joints.velocity.segment<3>(3 * i);
     const LegGeometry& g = legs_[i].geometry();
     const LegPhase& ph = schedule[i];
     Eigen::Vector3d p_foot, v_foot, a_foot = Eigen::Vector3d::Zero();
     if (!ph.stance) {
-      if (was_stance_[i]) swing_start_[i] = p + R * k.meas[i].r;  // lift-off point
+      if (was_stance_[i]) swing_start_[i] = k.p + k.R * k.meas[i].r;  // lift-off point
       // Raibert foothold: at mid-stance under the hip moved to the CoM's x (so that the diagonal
       // support line passes through the CoM), shifted against the velocity error.
       const Eigen::Vector3d hip =
@@ -547,10 +573,9 @@ void QuadrupedController::swing_legs(const QuadrupedInput& in, QuadrupedOutput& 
       target.z() = estimator_.ground_height(target.x(), target.y()) + cfg_.foot_radius -
                    cfg_.touchdown_depth;
       swing_target_[i] = target;
-      // The reference where the foot should be when this command lands (one delay ahead), and
-      // the joint acceleration it asks for, fed forward through each joint's own inertia: the
-      // feedback, bounded by the delay, only corrects.
-      const double ahead = cfg_.swing_feedforward && t_swing > 0 ? tau_d / t_swing : 0.0;
+      // The reference where the foot should be when this command lands, and (swing_feedforward)
+      // the joint acceleration it asks for, fed forward through each joint's own inertia.
+      const double ahead = cfg_.swing_feedforward && !predict && t_swing > 0 ? tau_d / t_swing : 0.0;
       const SwingSample s = sample_swing(swing_start_[i], target, cfg_.swing_height,
                                          std::min(ph.progress + ahead, 1.0), t_swing);
       p_foot = s.p;
@@ -559,7 +584,7 @@ void QuadrupedController::swing_legs(const QuadrupedInput& in, QuadrupedOutput& 
       late_time_[i] = 0.0;
     } else {
       // Scheduled on the ground but no contact yet: keep reaching down until the foot finds it.
-      if (was_stance_[i]) swing_target_[i] = p + R * k.meas[i].r;  // never swung: start from here
+      if (was_stance_[i]) swing_target_[i] = k.p + k.R * k.meas[i].r;  // never swung: start from here
       late_time_[i] += cfg_.dt;
       p_foot = swing_target_[i] - Eigen::Vector3d(0, 0, 0.3 * late_time_[i]);
       v_foot = Eigen::Vector3d(0, 0, -0.3);
@@ -569,7 +594,7 @@ void QuadrupedController::swing_legs(const QuadrupedInput& in, QuadrupedOutput& 
     Eigen::Vector3d q_des = q_leg_valid_[i];
     if (legs_[i].inverse(r_des, q_des) == Status::kOk) q_leg_valid_[i] = q_des;
     else k.status = worst(k.status, Status::kUnreachable);
-    const Eigen::Vector3d v_rel = R.transpose() * (v_foot - v) - k.w_body.cross(r_des);
+    const Eigen::Vector3d v_rel = R.transpose() * (v_foot - v) - w_body.cross(r_des);
     const Eigen::Matrix3d Jd = legs_[i].jacobian(q_des);
     Eigen::Vector3d qd_des = Eigen::Vector3d::Zero(), qdd_des = Eigen::Vector3d::Zero();
     if (std::abs(Jd.determinant()) > 1e-6) {
@@ -577,8 +602,8 @@ void QuadrupedController::swing_legs(const QuadrupedInput& in, QuadrupedOutput& 
       qd_des = lu.solve(v_rel);
       if (cfg_.swing_feedforward) qdd_des = lu.solve(R.transpose() * a_foot);
     }
-    const Eigen::Vector3d tau_pd = cfg_.swing_kp.cwiseProduct(q_des - (q + tau_d * qd)) +
-                                   cfg_.swing_kd.cwiseProduct(qd_des - qd) +
+    const Eigen::Vector3d tau_pd = cfg_.swing_kp.cwiseProduct(q_des - (predict ? q_pred : q + tau_d * qd)) +
+                                   cfg_.swing_kd.cwiseProduct(qd_des - (predict ? qd_pred : qd)) +
                                    swing_inertia_.cwiseProduct(qdd_des);
     out.tau.segment<3>(3 * i) = k.tau_gravity[i] + tau_pd;
     const Eigen::Vector3d& sg = g.sign;
@@ -586,7 +611,18 @@ void QuadrupedController::swing_legs(const QuadrupedInput& in, QuadrupedOutput& 
     k.swing_reaction += sg[0] * tau_pd[0] * Eigen::Vector3d::UnitX() +
                         sg[1] * tau_pd[1] * Eigen::Vector3d(0, c0, s0);
   }
-  if (cfg_.swing_reaction_feedforward) k.wrench.tail<3>() += R * k.swing_reaction;
+  if (cfg_.swing_reaction_feedforward) k.wrench.tail<3>() += k.R * k.swing_reaction;
+}
+
+// 8b. What the swing torques sent (after saturation) will do to their joints when they land,
+// beyond gravity, through the leg's joint-space inertia (for the joint predictor; a stance leg's
+// joints are held by the ground: 0).
+void QuadrupedController::swing_joint_accelerations(const Vector12d& tau) noexcept {
+  Tick& k = tick_;
+  for (int i = 0; i < kLegs; ++i)
+    k.qdd.segment<3>(3 * i) =
+        k.stance[i] ? Eigen::Vector3d::Zero()
+                    : Eigen::Vector3d(leg_mass_inverse_[i] * (tau.segment<3>(3 * i) - k.tau_gravity[i]));
 }
 
 // 9. Force distribution over the legs that are both scheduled and detected on the ground.

@@ -27,4 +27,25 @@ class InFlight {
   size_t head_ = 0;
 };
 
+// What accelerations still in flight do over the delay, until the command sent now lands (a
+// Smith predictor's model part). Entry j acts during [j, j + 1) ticks from now: its velocity
+// change dt a counts fully, its position change for the (n - j - 0.5) ticks left after it.
+template <class T>
+struct InFlightEffect {
+  T velocity;  // sum dt a_j
+  T position;  // sum (n - j - 0.5) dt^2 a_j
+};
+
+template <class T>
+InFlightEffect<T> in_flight_effect(const InFlight<T>& accel, double dt) noexcept {
+  InFlightEffect<T> e{T::Zero(), T::Zero()};
+  const int n = accel.size();
+  for (int j = 0; j < n; ++j) {
+    const T& a = accel.oldest(j);
+    e.velocity += dt * a;
+    e.position += ((n - j - 0.5) * dt * dt) * a;
+  }
+  return e;
+}
+
 }  // namespace kiloloop

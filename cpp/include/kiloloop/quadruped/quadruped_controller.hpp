@@ -87,6 +87,13 @@ struct QuadrupedConfig {
   // ahead. Off by default: measured at 10 ms it sped the trot up (0.51 -> 0.55 m/s at 0.5) and
   // tipped the light robot over; at 35 ms it did not save the trot either.
   bool swing_feedforward = false;
+  // Joint-level Smith predictor for the swing legs: the swing PD acts on each swing joint's q, qd
+  // predicted one actuation delay ahead (when its command lands) from the joint accelerations
+  // still in flight, M_leg^-1 (tau - gravity) with M_leg the leg's joint-space inertia standing.
+  // The delay left in the loop is then only the predictor's error, so the gains are capped with
+  // swing_prediction_residual * actuation_delay (+ dt) instead of the whole delay.
+  bool predict_swing = true;
+  double swing_prediction_residual = 0.3;  // [-] fraction of the delay the predictor leaves
   Eigen::Vector3d swing_kp = Eigen::Vector3d::Zero();  // [N m/rad] abd, pitch, knee; 0: derived
   Eigen::Vector3d swing_kd = Eigen::Vector3d::Zero();  // [N m s/rad]; 0: derived
   double max_acceleration = 1.0;      // [m/s^2] ramp on the commanded velocity
@@ -95,7 +102,9 @@ struct QuadrupedConfig {
   // the whole way, only settle.
   double max_position_lag = 0.05;
   // [s] known command-to-motor latency: feedback uses the state predicted this far ahead
-  // (0 disables).
+  // (0 disables). A command sent at t acts at t + delay: the gait schedule runs for the commands
+  // (stance/swing choice, swing reference, load ramps), and contact detection and the estimator
+  // compare against the schedule of the commands acting now (the one sent a delay ago).
   double actuation_delay = 0.010;
   // How the state is predicted over the delay. true: with the model (composite mass and inertia)
   // and the trunk accelerations commanded in the last actuation_delay seconds, still in flight
@@ -148,7 +157,8 @@ struct QuadrupedOutput {
   Status status = Status::kNotConfigured;
   Vector12d foot_force = Vector12d::Zero();  // [N] ground reaction per foot, world (QP result)
   Eigen::Vector4d contact = Eigen::Vector4d::Zero();    // 1 where the detector says contact
-  Eigen::Vector4d scheduled = Eigen::Vector4d::Zero();  // 1 where the gait schedules stance
+  // 1 where the commands acting now schedule stance (the gait schedule one delay ago)
+  Eigen::Vector4d scheduled = Eigen::Vector4d::Zero();
   Eigen::Vector4d foot_clearance = Eigen::Vector4d::Zero();  // [m] feet above the estimated ground
   Eigen::Vector3d position = Eigen::Vector3d::Zero();   // [m] estimated trunk position, world
   Eigen::Vector3d velocity = Eigen::Vector3d::Zero();   // [m/s] estimated, world
@@ -199,6 +209,11 @@ class QuadrupedController {
     Vector6d wrench = Vector6d::Zero();              // desired [F; tau] at the CoM, world
     Eigen::Vector3d swing_reaction = Eigen::Vector3d::Zero();  // [N m] trunk frame
     Vector6d accel = Vector6d::Zero();  // [m/s^2; rad/s^2] world: what this tick's command does to the trunk
+    Vector12d qdd = Vector12d::Zero();  // [rad/s^2] what this tick's swing torques do to their joints
+    // Trunk state predicted one delay ahead, when this tick's command lands (world; body rates).
+    Eigen::Vector3d p_pred = Eigen::Vector3d::Zero(), v_pred = Eigen::Vector3d::Zero();
+    Eigen::Matrix3d R_pred = Eigen::Matrix3d::Identity();
+    Eigen::Vector3d w_pred_body = Eigen::Vector3d::Zero();
   };
 
   Status run(const QuadrupedInput& in, QuadrupedOutput& out) noexcept;
@@ -210,7 +225,9 @@ class QuadrupedController {
   bool safety_stop(const QuadrupedInput& in, QuadrupedOutput& out) noexcept;
   void trunk_reference() noexcept;
   void trunk_wrench(QuadrupedOutput& out) noexcept;
+  bool commanded_stance(int leg) const noexcept;
   void swing_legs(const QuadrupedInput& in, QuadrupedOutput& out) noexcept;
+  void swing_joint_accelerations(const Vector12d& tau) noexcept;
   void distribute_forces(QuadrupedOutput& out) noexcept;
   void stance_legs(QuadrupedOutput& out) noexcept;
   void safe_output(const QuadrupedInput& in, Vector12d& tau) const noexcept;
@@ -225,6 +242,7 @@ class QuadrupedController {
   Vector12d stand_q_ = Vector12d::Zero(), crouch_q_ = Vector12d::Zero();
   Vector12d safe_kp_ = Vector12d::Zero(), safe_kd_ = Vector12d::Zero();
   Eigen::Vector3d swing_inertia_ = Eigen::Vector3d::Zero();  // [kg m^2] joint inertia diagonal, standing
+  std::array<Eigen::Matrix3d, kLegs> leg_mass_inverse_{};    // [1/(kg m^2)] M_leg^-1, standing
   double mass_ = 0.0;
   Eigen::Vector3d com_ = Eigen::Vector3d::Zero();  // [m] whole-robot CoM, trunk frame, standing
   Eigen::Matrix3d inertia_ = Eigen::Matrix3d::Identity();
@@ -237,6 +255,10 @@ class QuadrupedController {
   // accelerations [linear; angular] (world) they command.
   InFlight<Vector12d> tau_in_flight_;
   InFlight<Vector6d> accel_in_flight_;
+  InFlight<Vector12d> qdd_in_flight_;  // swing joints' commanded accelerations (0: stance legs)
+  // The gait schedule of the commands in flight; oldest(0): the one acting now.
+  InFlight<std::array<LegPhase, kLegs>> schedule_in_flight_;
+  std::array<LegPhase, kLegs> acting_schedule_{};
   // State carried across ticks.
   Vector12d tau_prev_ = Vector12d::Zero();
   Vector12d f_ = Vector12d::Zero();
