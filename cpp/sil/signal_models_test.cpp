@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 #include <vector>
 
 #include "alloc_counter.hpp"
@@ -67,6 +68,22 @@ TEST(NativeMotorModel, DelayThenFirstOrderLag) {
     EXPECT_EQ(y, e);
   }
   EXPECT_FALSE(m.configure(MotorModelConfig{-1, 0.0, 0.001}, 1, &why));
+}
+
+TEST(NativeMotorModel, SaturatesAfterTheDelayAtEachElementsLimit) {
+  MotorModel m;
+  std::string why;
+  const double inf = std::numeric_limits<double>::infinity();
+  ASSERT_TRUE(m.configure(MotorModelConfig{1, 0.0, 0.001, {2.0, inf}}, 2, &why)) << why;
+  const double u[2] = {-5.0, 1e6};
+  double y[2] = {1.0, 1.0};
+  m.push(u, y);
+  EXPECT_EQ(y[0], 0.0);  // nothing has arrived yet
+  m.push(u, y);
+  EXPECT_EQ(y[0], -2.0);
+  EXPECT_EQ(y[1], 1e6);  // +inf: no limit on that element
+  EXPECT_FALSE(m.configure(MotorModelConfig{0, 0.0, 0.001, {1.0}}, 2, &why));   // wrong size
+  EXPECT_FALSE(m.configure(MotorModelConfig{0, 0.0, 0.001, {-1.0, 1.0}}, 2, &why));
 }
 
 TEST(NativeSignalModels, NoAllocationPerCall) {
