@@ -59,7 +59,7 @@ TEST(NativeMeasurementDelay, MirrorsThePythonLoopFifo) {
 TEST(NativeMotorModel, DelayThenFirstOrderLag) {
   MotorModel m;
   std::string why;
-  ASSERT_TRUE(m.configure(MotorModelConfig{2, 0.001, 0.001}, 1, &why)) << why;  // alpha = 1/2
+  ASSERT_TRUE(m.configure(MotorModelConfig{2, 0.001, 0.001, {}}, 1, &why)) << why;  // alpha = 1/2
   const double u = 1.0;
   double y = -1.0;
   const double expected[] = {0.0, 0.0, 0.5, 0.75, 0.875};
@@ -67,7 +67,7 @@ TEST(NativeMotorModel, DelayThenFirstOrderLag) {
     m.push(&u, &y);
     EXPECT_EQ(y, e);
   }
-  EXPECT_FALSE(m.configure(MotorModelConfig{-1, 0.0, 0.001}, 1, &why));
+  EXPECT_FALSE(m.configure(MotorModelConfig{-1, 0.0, 0.001, {}}, 1, &why));
 }
 
 TEST(NativeMotorModel, SaturatesAfterTheDelayAtEachElementsLimit) {
@@ -92,7 +92,7 @@ TEST(NativeSignalModels, NoAllocationPerCall) {
   MeasurementDelay d;
   std::string why;
   ASSERT_TRUE(s.configure(SensorModelConfig{std::vector<double>(12, 0.01), std::vector<double>(12, 1e-3), 1}, 12, &why));
-  ASSERT_TRUE(m.configure(MotorModelConfig{3, 0.01, 0.001}, 6, &why));
+  ASSERT_TRUE(m.configure(MotorModelConfig{3, 0.01, 0.001, {}}, 6, &why));
   d.configure(12, 2);
   std::vector<double> x(12, 0.3), y(12), u(6, 1.0), tau(6);
   testing::AllocationScope scope;
