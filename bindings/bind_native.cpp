@@ -18,6 +18,7 @@
 #include "sil/batch.hpp"
 #include "sil/mujoco_api.hpp"
 #include "sil/native_loop.hpp"
+#include "sil/quadruped_adapter.hpp"
 #endif
 
 namespace kiloloop::py_glue {
@@ -125,11 +126,34 @@ void bind_native(py::module_& parent) {
         py::arg("controller"), py::arg("supervisor"), py::arg("trajectory"),
         "y = [q; qd] -> joint controller -> ArmSupervisor (e-stop events) (SupervisedTick)");
 
+  m.def("quadruped_adapter",
+        [](py::object controller, std::array<int, 12> to_ctrl, int gait, const Eigen::Vector3d& velocity) {
+          auto* c = &controller.cast<QuadrupedController&>();
+          for (int j : to_ctrl)
+            if (j < 0 || j >= 12) throw py::value_error("to_ctrl: expected plant joint indices 0..11");
+          if (gait != 0 && gait != 1) throw py::value_error("gait: expected 0 (stand) or 1 (trot)");
+          return PyAdapter{std::make_shared<QuadrupedAdapter>(c, to_ctrl, static_cast<Gait>(gait), velocity),
+                           {controller}};
+        },
+        py::arg("controller"), py::arg("to_ctrl"), py::arg("gait") = 0,
+        py::arg("velocity") = Eigen::Vector3d::Zero().eval(),
+        "y = [q; qd; gyro; accel; quat] (plant order) -> QuadrupedController -> tau (plant order); "
+        "to_ctrl[j]: plant index of controller joint j; commands as reference events {gait, vx, vy, wz}");
+  m.def("set_foothold_offset",
+        [](PyAdapter& a, const Vector12d& offset) {
+          auto* q = dynamic_cast<QuadrupedAdapter*>(a.adapter.get());
+          if (!q) throw py::value_error("set_foothold_offset: not a quadruped adapter");
+          q->set_foothold_offset(offset);
+        },
+        py::arg("adapter"), py::arg("offset"),
+        "(12) [m] per foot, trunk frame, added to the swing footholds from the next tick on");
+
   py::class_<PyRollout>(m, "Rollout", "one native closed-loop run on a MuJoCo model/data")
       .def(py::init([](py::object model, py::object data, py::object adapter, int ticks, double control_dt,
                        std::vector<int> measurement, std::vector<int> actuators, int delay_ticks,
                        std::vector<double> sigma, std::vector<double> quantum, unsigned long long seed,
-                       int motor_delay_ticks, double motor_time_constant, py::list events, py::list probes) {
+                       int motor_delay_ticks, double motor_time_constant, std::vector<double> motor_limit,
+                       py::list events, py::list probes, std::optional<py::tuple> stop) {
              auto* pa = &adapter.cast<PyAdapter&>();
              RolloutConfig config;
              config.ticks = ticks;
@@ -142,6 +166,7 @@ void bind_native(py::module_& parent) {
              config.sensor.seed = seed;
              config.motor.delay_ticks = motor_delay_ticks;
              config.motor.time_constant = motor_time_constant;
+             config.motor.limit = std::move(motor_limit);
              for (auto item : events) {
                auto e = item.cast<py::tuple>();
                if (e.size() != 3) throw py::value_error("events: expected (time, kind, payload) tuples");
@@ -154,9 +179,15 @@ void bind_native(py::module_& parent) {
                auto p = item.cast<py::tuple>();
                if (p.size() != 3) throw py::value_error("probes: expected (name, source, index) tuples");
                const int source = p[1].cast<int>();
-               if (source < 0 || source > 6) throw py::value_error("probes: source must be 0..6");
+               if (source < 0 || source > 8) throw py::value_error("probes: source must be 0..8");
                config.probes.push_back(Probe{p[0].cast<std::string>(), static_cast<Probe::Source>(source),
                                              p[2].cast<std::vector<int>>()});
+             }
+             if (stop) {
+               if (stop->size() != 3) throw py::value_error("stop: expected (probe index, element, below)");
+               config.stop_probe = (*stop)[0].cast<int>();
+               config.stop_element = (*stop)[1].cast<int>();
+               config.stop_below = (*stop)[2].cast<double>();
              }
              auto r = std::make_unique<PyRollout>();
              std::string why;
@@ -173,13 +204,34 @@ void bind_native(py::module_& parent) {
            py::arg("delay_ticks") = 0, py::arg("sigma") = std::vector<double>{},
            py::arg("quantum") = std::vector<double>{}, py::arg("seed") = 0ULL,
            py::arg("motor_delay_ticks") = 0, py::arg("motor_time_constant") = 0.0,
-           py::arg("events") = py::list(), py::arg("probes") = py::list())
+           py::arg("motor_limit") = std::vector<double>{}, py::arg("events") = py::list(),
+           py::arg("probes") = py::list(), py::arg("stop") = py::none())
       .def("run",
            [](PyRollout& r) {
              py::gil_scoped_release no_gil;
              r.rollout.run();
            },
-           "runs the ticks from the data's current state (GIL released)")
+           "runs the remaining ticks from the data's current state (GIL released)")
+      .def("advance",
+           [](PyRollout& r, int n) {
+             py::gil_scoped_release no_gil;
+             r.rollout.advance(n);
+           },
+           py::arg("n"), "runs up to n more ticks (GIL released)")
+      .def_property_readonly("stopped", [](const PyRollout& r) { return r.rollout.result().stopped; })
+      .def_property_readonly("finished", [](const PyRollout& r) { return r.rollout.finished(); })
+      .def("last",
+           [](const PyRollout& r, const std::string& name) {
+             const int k = r.rollout.result().ticks - 1;
+             for (const auto& c : r.rollout.log().channels())
+               if (c.name == name) {
+                 if (k < 0) throw py::value_error("last: no tick run yet");
+                 Eigen::VectorXd v = Eigen::Map<const Eigen::VectorXd>(c.data.data() + static_cast<size_t>(k) * c.width, c.width);
+                 return v;
+               }
+             throw py::value_error("last: no channel " + name);
+           },
+           py::arg("name"), "the channel's row at the last tick run (flat copy)")
       .def_property_readonly("ok", [](const PyRollout& r) { return r.rollout.result().ok; })
       .def_property_readonly("error", [](const PyRollout& r) { return r.rollout.result().error; })
       .def_property_readonly("ticks_run", [](const PyRollout& r) { return r.rollout.result().ticks; })
@@ -208,6 +260,15 @@ void bind_native(py::module_& parent) {
         },
         py::arg("rollouts"), py::arg("threads"),
         "runs every Rollout once on a pool of C++ threads (GIL released); each must own its data");
+  m.def("advance_batch",
+        [](py::list rollouts, int ticks, int threads) {
+          std::vector<Rollout*> rs;
+          for (auto item : rollouts) rs.push_back(&item.cast<PyRollout&>().rollout);
+          py::gil_scoped_release no_gil;
+          advance_batch(rs, ticks, threads);
+        },
+        py::arg("rollouts"), py::arg("ticks"), py::arg("threads"),
+        "advances every Rollout by up to `ticks` on a pool of C++ threads (GIL released)");
   m.def("step_adapter",
         [](PyAdapter& a, const Array& y, int n, double dt) {
           vector_arg(y, a.adapter->measurement_size(), "y");
@@ -252,13 +313,15 @@ void bind_native(py::module_& parent) {
         return y;
       });
   py::class_<MotorModel>(m, "MotorModel", "command transport delay [ticks] + first-order lag")
-      .def(py::init([](int delay_ticks, double time_constant, double dt, int n) {
+      .def(py::init([](int delay_ticks, double time_constant, double dt, int n, std::vector<double> limit) {
              MotorModel s;
              std::string why;
-             if (!s.configure(MotorModelConfig{delay_ticks, time_constant, dt}, n, &why)) throw py::value_error(why);
+             if (!s.configure(MotorModelConfig{delay_ticks, time_constant, dt, std::move(limit)}, n, &why))
+               throw py::value_error(why);
              return s;
            }),
-           py::arg("delay_ticks"), py::arg("time_constant"), py::arg("dt"), py::arg("n"))
+           py::arg("delay_ticks"), py::arg("time_constant"), py::arg("dt"), py::arg("n"),
+           py::arg("limit") = std::vector<double>{})
       .def("push", [](MotorModel& s, const Array& u) {
         vector_arg(u, s.size(), "u");
         Eigen::VectorXd y(u.size());

@@ -108,6 +108,8 @@ void bind_quadruped(py::module_& m) {
   vector_field(in, "accel", &QuadrupedInput::accel, "(3) [m/s^2] specific force, body");
   vector_field(in, "quat", &QuadrupedInput::quat, "(4) IMU orientation w, x, y, z");
   vector_field(in, "velocity_command", &QuadrupedInput::velocity_command, "(3) vx, vy [m/s], yaw rate [rad/s]");
+  vector_field(in, "foothold_offset", &QuadrupedInput::foothold_offset,
+               "(12) [m] per foot (FL, FR, RL, RR x xyz), trunk frame, added to the swing footholds");
   vector_field(in, "true_position", &QuadrupedInput::true_position, "(3) [m] world (debug)");
   vector_field(in, "true_velocity", &QuadrupedInput::true_velocity, "(3) [m/s] world (debug)");
   vector_field(in, "true_quat", &QuadrupedInput::true_quat, "(4) w, x, y, z (debug)");

@@ -47,4 +47,9 @@ def test_bench_quick_reports_zero_allocations():
     assert report["sil"]["tick_over_mj_step"] > 0
     assert "quadruped.step" in names
     assert report["quadruped_sil"]["real_time_factor"] > 0
+    if report["sil_native"]["available"]:
+        quad = report["sil_native"]["quadruped"]
+        for key in ("tick_over_mj_step", "real_time_factor", "real_time_factor_all_cores"):
+            assert quad[key] > 0, key
+        assert quad["env"]["steps_per_second"] > 0 and quad["env_vector"]["num_envs"] == 8
     assert report["qp"], "the QP comparison ran"

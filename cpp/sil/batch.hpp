@@ -8,7 +8,11 @@
 
 namespace kiloloop::sil {
 
-// Runs every rollout once on min(threads, rollouts) threads (threads <= 1: the calling thread).
+// Runs every rollout to its end on min(threads, rollouts) threads (threads <= 1: the calling
+// thread).
 void run_batch(const std::vector<Rollout*>& rollouts, int threads) noexcept;
+// Runs up to `ticks` more ticks of every rollout (Rollout::advance), the same way: a vectorized
+// environment's step.
+void advance_batch(const std::vector<Rollout*>& rollouts, int ticks, int threads) noexcept;
 
 }  // namespace kiloloop::sil

@@ -4,9 +4,12 @@
 // `t >= t_event` would). Kinds:
 //   kEstop      payload {1 or 0}: the e-stop input pressed / released (adapters with a supervisor)
 //   kReference  payload: an offset added to the reference from then on (joint adapters: (nq) [rad];
-//               Cartesian: (3) [m] on the position), replacing any earlier offset
+//               Cartesian: (3) [m] on the position), replacing any earlier offset; a quadruped:
+//               the new command {gait, vx, vy, yaw rate} [-, m/s, m/s, rad/s]
 //   kForce      payload {body id, fx, fy, fz, tx, ty, tz, duration [s]}: a wrench [N, N m] in the
-//               world frame on that body's centre of mass (MuJoCo xfrc_applied) for duration
+//               world frame on that body's centre of mass (MuJoCo xfrc_applied) for duration,
+//               rounded to whole physics steps (half up), from the tick it fires (as
+//               FloatingBasePlant.apply_push: impulse = force x steps x timestep)
 #include <vector>
 
 namespace kiloloop::sil {

@@ -15,6 +15,7 @@ struct MujocoApi {
   void (*step)(const mjModel*, mjData*) = nullptr;
   void (*step1)(const mjModel*, mjData*) = nullptr;
   void (*step2)(const mjModel*, mjData*) = nullptr;
+  void (*contact_force)(const mjModel*, const mjData*, int, mjtNum*) = nullptr;
   int (*version)() = nullptr;
   const char* (*version_string)() = nullptr;
 };

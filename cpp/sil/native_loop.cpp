@@ -24,6 +24,11 @@ int probe_width(const mjModel* m, const Probe& p, std::vector<int>* shape, std::
     case S::kSiteMat: *shape = {3, 3}; if (p.index.size() == 1 && in_range(m->nsite)) return 9; break;
     case S::kBodyPos: *shape = {3}; if (p.index.size() == 1 && in_range(m->nbody)) return 3; break;
     case S::kBodyQuat: *shape = {4}; if (p.index.size() == 1 && in_range(m->nbody)) return 4; break;
+    case S::kBodiesPos:
+    case S::kContactForce:
+      *shape = {static_cast<int>(p.index.size()), 3};
+      if (!p.index.empty() && in_range(m->nbody)) return 3 * shape->at(0);
+      break;
   }
   *why = "probe " + p.name + ": index out of range for this model";
   return -1;
@@ -63,6 +68,11 @@ bool Rollout::configure(const mjModel* model, mjData* data, std::shared_ptr<Adap
     if (a < 0 || a >= model->nu) { *why = "rollout: actuator index out of range"; return false; }
   const int ny = adapter->measurement_size(), nu = adapter->command_size();
   if (!sensor_.configure(config.sensor, ny, why)) return false;
+  for (const auto& stage : config.sensor_stages)
+    if (!stage || !stage->configure(ny, why)) {
+      if (!stage) *why = "rollout: null sensor stage";
+      return false;
+    }
   config.motor.dt = config.control_dt;
   if (!motor_.configure(config.motor, nu, why)) return false;
   delay_.configure(ny, config.delay_ticks);
@@ -86,10 +96,23 @@ bool Rollout::configure(const mjModel* model, mjData* data, std::shared_ptr<Adap
   log_ = LogBuffer();
   ch_t_ = log_.declare("t", {});
   ch_probe_.clear();
-  for (const auto& p : config.probes) {
+  contact_forces_.assign(config.probes.size(), ContactForces());
+  for (size_t i = 0; i < config.probes.size(); ++i) {
+    const Probe& p = config.probes[i];
     std::vector<int> shape;
-    if (probe_width(model, p, &shape, why) < 0) return false;
+    const int width = probe_width(model, p, &shape, why);
+    if (width < 0) return false;
+    if (p.source == Probe::Source::kContactForce && !contact_forces_[i].configure(model, p.index, why))
+      return false;
     ch_probe_.push_back(log_.declare(p.name, shape));
+    if (static_cast<int>(i) == config.stop_probe && (config.stop_element < 0 || config.stop_element >= width)) {
+      *why = "rollout: stop element out of range for probe " + p.name;
+      return false;
+    }
+  }
+  if (config.stop_probe >= static_cast<int>(config.probes.size())) {
+    *why = "rollout: stop probe out of range";
+    return false;
   }
   adapter->declare(log_);
   log_.allocate(config.ticks);
@@ -104,18 +127,49 @@ bool Rollout::configure(const mjModel* model, mjData* data, std::shared_ptr<Adap
   u_.assign(nu, 0.0);
   u_applied_.assign(nu, 0.0);
   next_event_ = 0;
+  push_steps_.assign(config_.events.size(), 0);
+  k_ = 0;
   result_ = RolloutResult();
+  result_.ok = true;
   return true;
 }
 
-void Rollout::apply_forces(double t) noexcept {
-  for (int b : force_bodies_) std::fill(d_->xfrc_applied + 6 * b, d_->xfrc_applied + 6 * b + 6, 0.0);
-  for (size_t i = 0; i < next_event_; ++i) {
-    const Event& e = config_.events[i];
-    if (e.kind != EventKind::kForce || t >= e.time + e.payload[7]) continue;
-    double* f = d_->xfrc_applied + 6 * static_cast<int>(e.payload[0]);
-    for (int j = 0; j < 6; ++j) f[j] += e.payload[1 + j];
+void Rollout::fire_events(double t) noexcept {
+  while (next_event_ < config_.events.size() && t >= config_.events[next_event_].time) {
+    const Event& e = config_.events[next_event_];
+    if (e.kind == EventKind::kForce)  // whole physics steps, half up (FloatingBasePlant.apply_push)
+      push_steps_[next_event_] = static_cast<int>(std::floor(e.payload[7] / m_->opt.timestep + 0.5 + 1e-9));
+    else
+      adapter_->on_event(e);
+    ++next_event_;
   }
+}
+
+void Rollout::physics_step(bool last) noexcept {
+  if (!force_bodies_.empty()) {
+    for (int b : force_bodies_) std::fill(d_->xfrc_applied + 6 * b, d_->xfrc_applied + 6 * b + 6, 0.0);
+    for (size_t i = 0; i < next_event_; ++i) {
+      if (push_steps_[i] <= 0) continue;
+      const Event& e = config_.events[i];
+      double* f = d_->xfrc_applied + 6 * static_cast<int>(e.payload[0]);
+      for (int j = 0; j < 6; ++j) f[j] += e.payload[1 + j];
+      --push_steps_[i];
+    }
+  }
+  const MujocoApi& mj = mujoco_api();
+  mj.step2(m_, d_);
+  // Contacts and constraint forces agree only here: mj_step1 re-detects the contacts for the new
+  // positions, whose forces the next mj_step2 solves (sil/floating_plant.py).
+  if (last)
+    for (size_t p = 0; p < config_.probes.size(); ++p)
+      if (config_.probes[p].source == Probe::Source::kContactForce) contact_forces_[p].update(m_, d_);
+  mj.step1(m_, d_);
+}
+
+bool Rollout::stop_due(int k) const noexcept {
+  if (config_.stop_probe < 0) return false;
+  return log_.channels()[ch_probe_[config_.stop_probe]].data[static_cast<size_t>(k) *
+             log_.channels()[ch_probe_[config_.stop_probe]].width + config_.stop_element] < config_.stop_below;
 }
 
 void Rollout::tick(int k) {
@@ -123,6 +177,7 @@ void Rollout::tick(int k) {
   const int ny = static_cast<int>(y_raw_.size()), nu = static_cast<int>(u_.size());
   for (int i = 0; i < ny; ++i) y_raw_[i] = d_->sensordata[config_.measurement[i]];
   sensor_.apply(y_raw_.data(), y_.data());
+  for (const auto& stage : config_.sensor_stages) stage->apply(t, y_.data());
   double stamp = t;
   const double* y = nullptr;
   delay_.push(t, y_.data(), &stamp, &y);
@@ -141,47 +196,57 @@ void Rollout::tick(int k) {
       case S::kSiteMat: std::copy(d_->site_xmat + 9 * i0, d_->site_xmat + 9 * i0 + 9, row); break;
       case S::kBodyPos: std::copy(d_->xpos + 3 * i0, d_->xpos + 3 * i0 + 3, row); break;
       case S::kBodyQuat: std::copy(d_->xquat + 4 * i0, d_->xquat + 4 * i0 + 4, row); break;
+      case S::kBodiesPos:
+        for (size_t j = 0; j < probe.index.size(); ++j)
+          std::copy(d_->xpos + 3 * probe.index[j], d_->xpos + 3 * probe.index[j] + 3, row + 3 * j);
+        break;
+      case S::kContactForce:
+        std::copy(contact_forces_[p].forces().begin(), contact_forces_[p].forces().end(), row);
+        break;
     }
   }
 
-  while (next_event_ < config_.events.size() && t >= config_.events[next_event_].time) {
-    adapter_->on_event(config_.events[next_event_]);
-    ++next_event_;
-  }
-
+  fire_events(t);
   adapter_->step(t, stamp, y, u_.data(), log_, k);
   motor_.push(u_.data(), u_applied_.data());
   for (int i = 0; i < nu; ++i) d_->ctrl[config_.actuators[i]] = u_applied_[i];
-  if (!force_bodies_.empty()) apply_forces(t);
-  const MujocoApi& mj = mujoco_api();
-  for (int s = 0; s < substeps_; ++s) {
-    mj.step2(m_, d_);
-    mj.step1(m_, d_);
-  }
+  for (int s = 0; s < substeps_; ++s) physics_step(s == substeps_ - 1);
 }
 
-const RolloutResult& Rollout::run() noexcept {
-  result_ = RolloutResult();
+const RolloutResult& Rollout::run() noexcept { return advance(config_.ticks); }
+
+const RolloutResult& Rollout::advance(int n) noexcept {
   if (!m_ || !adapter_) {
+    result_.ok = false;
     result_.error = "rollout: not configured";
     return result_;
   }
+  if (finished()) return result_;
   int warnings0 = 0;
   for (int i = 0; i < mjNWARNING; ++i) warnings0 += d_->warning[i].number;
   try {
-    for (int k = 0; k < config_.ticks; ++k) {
-      tick(k);
-      result_.ticks = k + 1;
+    if (k_ == 0)  // the state the caller set (mj_forward done): its contact forces, as the plant's reset
+      for (size_t p = 0; p < config_.probes.size(); ++p)
+        if (config_.probes[p].source == Probe::Source::kContactForce) contact_forces_[p].update(m_, d_);
+    const int end = std::min(config_.ticks, k_ + std::max(n, 0));
+    while (k_ < end) {
+      tick(k_);
+      result_.ticks = ++k_;
+      if (stop_due(k_ - 1)) {
+        result_.stopped = true;
+        break;
+      }
     }
-    result_.ok = true;
   } catch (const std::exception& e) {  // MuJoCo's Python error hook throws on mju_error
+    result_.ok = false;
     result_.error = e.what();
   } catch (...) {
+    result_.ok = false;
     result_.error = "unknown error in the native loop";
   }
   int warnings = 0;
   for (int i = 0; i < mjNWARNING; ++i) warnings += d_->warning[i].number;
-  result_.warnings = warnings - warnings0;
+  result_.warnings += warnings - warnings0;
   return result_;
 }
 

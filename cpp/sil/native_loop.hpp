@@ -8,8 +8,9 @@
 //   fire the events due (t >= time)
 //   u     = adapter.step(t, stamp, y)        compiled controller
 //   ctrl[actuators] = MotorModel(u)          transport delay, first-order lag
-//   xfrc_applied of the bodies with force events
-//   substeps x (mj_step2; mj_step1)          so sensors describe the new state (sil/plant.py)
+//   substeps x (xfrc_applied of the pushed bodies; mj_step2; [contact forces on the last]; mj_step1)
+//                                            so sensors describe the new state (sil/plant.py)
+//   stop after this tick if the stop probe fell below its bound (a fall ends a trot run)
 // Deterministic: no clock, no shared state, a seeded RNG; the same inputs give the same log on
 // any thread. Allocation only in configure.
 #include <memory>
@@ -20,15 +21,19 @@
 
 #include "sil/adapter.hpp"
 #include "sil/events.hpp"
+#include "sil/contact_forces.hpp"
 #include "sil/log_buffer.hpp"
+#include "sil/sensor_stage.hpp"
 #include "sil/signal_models.hpp"
 
 namespace kiloloop::sil {
 
-// A ground-truth signal logged every tick (never seen by the controller).
+// A ground-truth signal logged every tick (never seen by the controller). kBodiesPos and
+// kContactForce take several body ids and log (bodies x 3): their origins [m], and the contact
+// force on each during the last physics step [N] (world; sil/contact_forces.hpp).
 struct Probe {
   enum class Source : int { kSensor = 0, kSitePos = 1, kSiteMat = 2, kBodyPos = 3, kBodyQuat = 4,
-                            kQpos = 5, kQvel = 6 };
+                            kQpos = 5, kQvel = 6, kBodiesPos = 7, kContactForce = 8 };
   std::string name;
   Source source = Source::kSensor;
   std::vector<int> index;  // sensordata / qpos / qvel addresses, or {site id} / {body id}
@@ -41,15 +46,23 @@ struct RolloutConfig {
   std::vector<int> actuators;         // ctrl indices written from u (adapter's layout)
   int delay_ticks = 0;                // measurement delay [ticks]
   SensorModelConfig sensor;
+  // After the sensor model, in order (an IMU model, ...); each rollout owns its own.
+  std::vector<std::shared_ptr<SensorStage>> sensor_stages;
   MotorModelConfig motor;
   std::vector<Event> events;
   std::vector<Probe> probes;
+  // Early stop: the run ends after the first tick whose probes[stop_probe][stop_element] is
+  // below stop_below (-1: never).
+  int stop_probe = -1;
+  int stop_element = 0;
+  double stop_below = 0.0;
 };
 
 struct RolloutResult {
   int ticks = 0;            // ticks completed
   int warnings = 0;         // MuJoCo warnings raised during the run (instability, ...)
-  bool ok = false;
+  bool ok = false;          // no error so far (a stopped or unfinished run may be ok)
+  bool stopped = false;     // the stop probe ended the run early
   std::string error;        // why the run stopped early (empty when ok)
 };
 
@@ -59,15 +72,23 @@ class Rollout {
   // data); adapter shared with the caller. False with why on inconsistent sizes or addresses.
   bool configure(const mjModel* model, mjData* data, std::shared_ptr<Adapter> adapter,
                  RolloutConfig config, std::string* why);
-  // Runs config.ticks ticks from the data's current state; never throws.
+  // Runs the remaining ticks (all config.ticks on a fresh rollout) from the data's current
+  // state; never throws.
   const RolloutResult& run() noexcept;
+  // Runs up to n more ticks (fewer at the end or after a stop): a caller that acts between
+  // chunks (a gym environment) keeps one rollout per episode.
+  const RolloutResult& advance(int n) noexcept;
+  bool finished() const { return result_.stopped || !result_.error.empty() || k_ >= config_.ticks; }
+  Adapter& adapter() { return *adapter_; }
   const RolloutResult& result() const { return result_; }
   const LogBuffer& log() const { return log_; }
   LogBuffer& log() { return log_; }
 
  private:
   void tick(int k);
-  void apply_forces(double t) noexcept;
+  void fire_events(double t) noexcept;
+  void physics_step(bool last) noexcept;
+  bool stop_due(int k) const noexcept;
 
   const mjModel* m_ = nullptr;
   mjData* d_ = nullptr;
@@ -79,7 +100,10 @@ class Rollout {
   MotorModel motor_;
   std::vector<double> y_raw_, y_, u_, u_applied_;
   std::vector<int> force_bodies_;  // bodies whose xfrc_applied the force events own
+  std::vector<int> push_steps_;    // per event: physics steps its force still acts (0: none)
   size_t next_event_ = 0;
+  int k_ = 0;                      // next tick
+  std::vector<ContactForces> contact_forces_;  // per probe (empty unless kContactForce)
   LogBuffer log_;
   int ch_t_ = 0;
   std::vector<int> ch_probe_;

@@ -1,5 +1,6 @@
 #include "sil/signal_models.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 namespace kiloloop::sil {
@@ -73,6 +74,16 @@ bool MotorModel::configure(const MotorModelConfig& config, int n, std::string* w
     *why = "motor model: expected delay_ticks >= 0, dt > 0 and a finite time_constant >= 0";
     return false;
   }
+  if (!config.limit.empty() && static_cast<int>(config.limit.size()) != n) {
+    *why = "motor model: limit: expected 0 or " + std::to_string(n) + " entries";
+    return false;
+  }
+  for (double l : config.limit)
+    if (std::isnan(l) || l < 0.0) {  // +inf: no limit on that element
+      *why = "motor model: limit: expected values >= 0";
+      return false;
+    }
+  limit_ = config.limit;
   n_ = n;
   ticks_ = config.delay_ticks;
   head_ = 0;
@@ -91,7 +102,7 @@ void MotorModel::push(const double* u, double* y) noexcept {
       slot = u[i];
     }
     state_[i] = alpha_ == 1.0 ? arriving : state_[i] + alpha_ * (arriving - state_[i]);
-    y[i] = state_[i];
+    y[i] = limit_.empty() ? state_[i] : std::clamp(state_[i], -limit_[i], limit_[i]);
   }
   if (ticks_ > 0) head_ = (head_ + 1) % ticks_;
 }

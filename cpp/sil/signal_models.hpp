@@ -51,6 +51,7 @@ struct MotorModelConfig {
   int delay_ticks = 0;          // [ticks] command transport delay; zeros until the first arrives
   double time_constant = 0.0;   // [s] first-order lag of the produced torque (0: none)
   double dt = 0.001;            // [s] control period
+  std::vector<double> limit;    // (n) |output| bound per element after the lag (saturation); empty: none
 };
 
 class MotorModel {
@@ -58,14 +59,15 @@ class MotorModel {
   bool configure(const MotorModelConfig& config, int n, std::string* why);
   // Queues this tick's command u and writes what the motors produce now:
   //   y_k = y_k-1 + alpha (u_{k-delay} - y_k-1),  alpha = dt / (time_constant + dt)
-  // (backward Euler of T y' + y = u; alpha = 1 without lag, y_-1 = 0).
+  // (backward Euler of T y' + y = u; alpha = 1 without lag, y_-1 = 0), then clipped to +-limit
+  // (the lag state itself is not clipped: the limit is the drive's, after the motor).
   void push(const double* u, double* y) noexcept;
   int size() const { return n_; }
 
  private:
   int n_ = 0, ticks_ = 0, head_ = 0;
   double alpha_ = 1.0;
-  std::vector<double> fifo_, state_;
+  std::vector<double> fifo_, state_, limit_;
 };
 
 }  // namespace kiloloop::sil

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 #include <vector>
 
 #include "alloc_counter.hpp"
@@ -58,7 +59,7 @@ TEST(NativeMeasurementDelay, MirrorsThePythonLoopFifo) {
 TEST(NativeMotorModel, DelayThenFirstOrderLag) {
   MotorModel m;
   std::string why;
-  ASSERT_TRUE(m.configure(MotorModelConfig{2, 0.001, 0.001}, 1, &why)) << why;  // alpha = 1/2
+  ASSERT_TRUE(m.configure(MotorModelConfig{2, 0.001, 0.001, {}}, 1, &why)) << why;  // alpha = 1/2
   const double u = 1.0;
   double y = -1.0;
   const double expected[] = {0.0, 0.0, 0.5, 0.75, 0.875};
@@ -66,7 +67,23 @@ TEST(NativeMotorModel, DelayThenFirstOrderLag) {
     m.push(&u, &y);
     EXPECT_EQ(y, e);
   }
-  EXPECT_FALSE(m.configure(MotorModelConfig{-1, 0.0, 0.001}, 1, &why));
+  EXPECT_FALSE(m.configure(MotorModelConfig{-1, 0.0, 0.001, {}}, 1, &why));
+}
+
+TEST(NativeMotorModel, SaturatesAfterTheDelayAtEachElementsLimit) {
+  MotorModel m;
+  std::string why;
+  const double inf = std::numeric_limits<double>::infinity();
+  ASSERT_TRUE(m.configure(MotorModelConfig{1, 0.0, 0.001, {2.0, inf}}, 2, &why)) << why;
+  const double u[2] = {-5.0, 1e6};
+  double y[2] = {1.0, 1.0};
+  m.push(u, y);
+  EXPECT_EQ(y[0], 0.0);  // nothing has arrived yet
+  m.push(u, y);
+  EXPECT_EQ(y[0], -2.0);
+  EXPECT_EQ(y[1], 1e6);  // +inf: no limit on that element
+  EXPECT_FALSE(m.configure(MotorModelConfig{0, 0.0, 0.001, {1.0}}, 2, &why));   // wrong size
+  EXPECT_FALSE(m.configure(MotorModelConfig{0, 0.0, 0.001, {-1.0, 1.0}}, 2, &why));
 }
 
 TEST(NativeSignalModels, NoAllocationPerCall) {
@@ -75,7 +92,7 @@ TEST(NativeSignalModels, NoAllocationPerCall) {
   MeasurementDelay d;
   std::string why;
   ASSERT_TRUE(s.configure(SensorModelConfig{std::vector<double>(12, 0.01), std::vector<double>(12, 1e-3), 1}, 12, &why));
-  ASSERT_TRUE(m.configure(MotorModelConfig{3, 0.01, 0.001}, 6, &why));
+  ASSERT_TRUE(m.configure(MotorModelConfig{3, 0.01, 0.001, {}}, 6, &why));
   d.configure(12, 2);
   std::vector<double> x(12, 0.3), y(12), u(6, 1.0), tau(6);
   testing::AllocationScope scope;

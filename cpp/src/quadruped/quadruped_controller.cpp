@@ -19,7 +19,8 @@ constexpr double kGravity = 9.81;
 
 bool finite_input(const QuadrupedInput& in) {
   return std::isfinite(in.t) && std::isfinite(in.stamp) && in.q.allFinite() && in.qd.allFinite() &&
-         in.gyro.allFinite() && in.accel.allFinite() && in.quat.allFinite() && in.quat.norm() > 0.5;
+         in.gyro.allFinite() && in.accel.allFinite() && in.quat.allFinite() && in.quat.norm() > 0.5 &&
+         in.foothold_offset.allFinite();
 }
 
 Eigen::Quaterniond to_quat(const Eigen::Vector4d& wxyz) {
@@ -532,6 +533,11 @@ bool QuadrupedController::commanded_stance(int leg) const noexcept {
   return gait_.legs()[leg].stance && (contacts_.contact(leg) || !acting_schedule_[leg].stance);
 }
 
+Eigen::Vector3d QuadrupedController::foothold_offset(const QuadrupedInput& in, int leg) const noexcept {
+  const double bound = kMaxFootholdOffset * legs_[leg].geometry().length();  // [m]
+  return in.foothold_offset.segment<3>(3 * leg).cwiseMax(-bound).cwiseMin(bound);
+}
+
 // 8. Swing legs (and stance legs still looking for the ground): foothold, swing, IK, joint PD.
 // Their motors push back on the trunk: the abduction and hip-pitch torques beyond gravity
 // compensation are a moment on the trunk that the stance feet must cancel (measured: the swing
@@ -572,6 +578,7 @@ void QuadrupedController::swing_legs(const QuadrupedInput& in, QuadrupedOutput& 
                                cfg_.raibert_gain * (v - k.v_des);
       target.z() = estimator_.ground_height(target.x(), target.y()) + cfg_.foot_radius -
                    cfg_.touchdown_depth;
+      target += R * foothold_offset(in, i);
       swing_target_[i] = target;
       // The reference where the foot should be when this command lands, and (swing_feedforward)
       // the joint acceleration it asks for, fed forward through each joint's own inertia.

@@ -108,13 +108,14 @@ def sil_benchmark(quick: bool, robot=None) -> dict:
     }
 
 
-def rig_sil_timing(scenario: str, rig, command, quick: bool) -> dict:
+def rig_sil_timing(scenario: str, rig, command, quick: bool, **run_kwargs) -> dict:
     """Runs a SIL rig (it owns plant, controller, input, output) for a few simulated seconds: real-time
     factor, tick cost against one raw mj_step of the same model, and the controller's step called
-    from Python on the rig's own input/output structs."""
+    from Python on the rig's own input/output structs. run_kwargs go to rig.run (native=False:
+    the per-tick Python loop of a rig that runs natively by default)."""
     duration = 2.0 if quick else 10.0
     start = time.perf_counter()
-    log = rig.run(duration, command)
+    log = rig.run(duration, command, **run_kwargs)
     wall = time.perf_counter() - start
     ticks = len(log["t"])
     raw = _raw_mj_step_seconds(rig.plant, ticks)
@@ -132,13 +133,16 @@ def rig_sil_timing(scenario: str, rig, command, quick: bool) -> dict:
 
 
 def quadruped_sil_benchmark(quick: bool) -> dict:
-    """Real-time factor of quadruped-trot (non-idealities on) and its tick cost vs raw mj_step."""
+    """Real-time factor of quadruped-trot (non-idealities on) in the per-tick Python loop and its
+    tick cost vs raw mj_step."""
     from ..scenarios import parse_settings, quadruped_trot
     from ..sil.quadruped_rig import rig_from_settings
 
     settings = parse_settings(quadruped_trot.DEFAULTS, None)
     rig = rig_from_settings(settings, seed=0)
-    return rig_sil_timing("quadruped-trot", rig, quadruped_trot.trot_command(settings["speed"]), quick)
+    # The per-tick Python loop (the native one: sil_native.quadruped).
+    return rig_sil_timing("quadruped-trot", rig, quadruped_trot.trot_command(settings["speed"]), quick,
+                          native=False)
 
 
 def _print_core(core: dict) -> None:

@@ -1,8 +1,9 @@
 """Native SIL figures for `kiloloop bench` (`sil_native` in --json): per family, the native tick
 against one raw `mj_step` of the same model (both called from C++), the real-time factor on one
 core and on all cores (a batch on one thread per core), the batch speed-up of 2 threads over 1,
-and the per-tick Python loop's figures beside them. Families without a native adapter yet
-(quadruped, aerial) report null.
+and the per-tick Python loop's figures beside them (the quadruped row: native_quadruped_bench.py,
+with the gym environment's steps per second). The aerial family has no native adapter yet and
+reports null.
 
 Timing is taken around whole C++ calls (the loop itself reads no clock). Costs per tick and per
 mj_step are CPU time of the calling thread (`time.thread_time`: the loop and the raw steps run on
@@ -181,8 +182,11 @@ def run_native_bench(quick: bool, robot=None) -> dict:
 
     if not native.available():
         return {"available": False, "arm": None, "quadruped": None, "aerial": None}
-    # quadruped and aerial: no native adapter yet (their rigs are being rewritten; issue 13).
-    return {"available": True, "arm": arm_native(quick, robot), "quadruped": None, "aerial": None}
+    from .native_quadruped_bench import quadruped_native
+
+    # aerial: no native adapter yet (issue 13).
+    return {"available": True, "arm": arm_native(quick, robot),
+            "quadruped": quadruped_native(quick) if robot is None else None, "aerial": None}
 
 
 def print_native_bench(r: dict) -> None:
@@ -214,3 +218,9 @@ def print_native_bench(r: dict) -> None:
         print(f"      CPU time 1 thread {a['batch_1_thread_cpu_s']:.3f} s, 2 threads "
               f"{a['batch_2_threads_cpu_s']:.3f} s; load average {a['load_average_1min']:.1f} "
               f"on {a['cores']} cores")
+        for key, label in (("env", "gym env, random actions"), ("env_vector", "gym vector env")):
+            if key in a:
+                e = a[key]
+                print(f"    {label:<36}{e['steps_per_second']:8.0f} steps/s  ({e['steps']} steps of "
+                      f"{e['ticks_per_step']} ticks, {e['num_envs']} env(s), {e['episodes_ended']} "
+                      f"episodes ended)")

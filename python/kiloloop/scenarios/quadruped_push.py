@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..sil.quadruped_rig import (COMMON_DEFAULTS, QUADRUPED_PLOT, add_derived, fallen,
+from ..sil.quadruped_rig import (COMMON_DEFAULTS, QUADRUPED_PLOT, add_derived, fallen, push_event,
                                  rig_from_settings, trot_command)
 from . import ScenarioResult, evaluate
 
@@ -25,7 +25,7 @@ def run(settings: dict, seed: int = 0, duration: float | None = None,
     rig = rig_from_settings(settings, seed, robot=robot)
     impulse = settings["impulse"] or settings["impulse_per_kg"] * rig.config.mass
     force = np.array([0.0, impulse / PUSH_DURATION, 0.0])  # +y: push to the left
-    events = [(PUSH_TIME, lambda plant: plant.apply_push(force, PUSH_DURATION))]
+    events = [push_event(PUSH_TIME, force, PUSH_DURATION)]
     log = rig.run(DURATION if duration is None else duration, trot_command(settings["speed"]),
                   events=events)
     add_derived(log)

@@ -6,7 +6,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..sil.quadruped_rig import (COMMON_DEFAULTS, QUADRUPED_PLOT, add_derived, fallen,
-                                 rig_from_settings)
+                                 rig_from_settings, stand_command)
 from . import ScenarioResult, evaluate
 
 NAME = "quadruped-slope"
@@ -41,7 +41,7 @@ def static_front_share(plant, foot_radius: float = 0.02) -> float:
 def run(settings: dict, seed: int = 0, duration: float | None = None,
         robot=None) -> ScenarioResult:
     rig = rig_from_settings(settings, seed, slope_deg=settings["slope_deg"], robot=robot)
-    log = rig.run(DURATION if duration is None else duration, lambda t: (0, np.zeros(3)))
+    log = rig.run(DURATION if duration is None else duration, stand_command())
     add_derived(log)
     t = log["t"]
     start = np.searchsorted(t, SETTLE)

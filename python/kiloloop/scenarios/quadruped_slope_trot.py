@@ -5,8 +5,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..sil.quadruped_rig import (COMMON_DEFAULTS, QUADRUPED_PLOT, add_derived, fallen, fell_early,
-                                 heading_velocity, rig_from_settings)
+from ..sil.quadruped_rig import (COMMON_DEFAULTS, CommandSchedule, QUADRUPED_PLOT, add_derived,
+                                 fallen, fell_early, heading_velocity, rig_from_settings)
 from . import ScenarioResult, evaluate
 
 NAME = "quadruped-slope-trot"
@@ -24,10 +24,8 @@ def run(settings: dict, seed: int = 0, duration: float | None = None,
     rig = rig_from_settings(settings, seed, slope_deg=settings["slope_deg"], robot=robot)
     speed = settings["speed"]
 
-    def command(t):
-        if t < START:
-            return 0, np.zeros(3)
-        return 1, np.array([speed if t < REVERSE else -speed, 0.0, 0.0])
+    command = CommandSchedule([(0.0, 0, np.zeros(3)), (START, 1, np.array([speed, 0.0, 0.0])),
+                               (REVERSE, 1, np.array([-speed, 0.0, 0.0]))])
 
     log = rig.run(DURATION if duration is None else duration, command, stop_when=fell_early(rig))
     add_derived(log)

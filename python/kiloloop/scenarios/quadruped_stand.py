@@ -6,7 +6,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..sil.quadruped_rig import (COMMON_DEFAULTS, QUADRUPED_PLOT, add_derived, fallen,
-                                 rig_from_settings)
+                                 rig_from_settings, stand_command)
 from . import ScenarioResult, evaluate
 
 NAME = "quadruped-stand"
@@ -28,7 +28,7 @@ def run(settings: dict, seed: int = 0, duration: float | None = None,
         config.body_height = settings["body_height"]
     rig = rig_from_settings(settings, seed, config=config, robot=robot)
     height = rig.config.body_height
-    log = rig.run(DURATION if duration is None else duration, lambda t: (0, np.zeros(3)))
+    log = rig.run(DURATION if duration is None else duration, stand_command())
     add_derived(log)
     t, z = log["t"], log["base_pos"][:, 2]  # flat ground at z = 0
     after = t >= min(1.0, t[-1])

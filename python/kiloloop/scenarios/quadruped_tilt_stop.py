@@ -4,7 +4,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..sil.quadruped_rig import (COMMON_DEFAULTS, QUADRUPED_PLOT, add_derived, rig_from_settings)
+from ..sil.quadruped_rig import (COMMON_DEFAULTS, QUADRUPED_PLOT, add_derived, push_event,
+                                 rig_from_settings, stand_command)
 from . import ScenarioResult, evaluate
 
 NAME = "quadruped-tilt-stop"
@@ -21,8 +22,8 @@ def run(settings: dict, seed: int = 0, duration: float | None = None,
     rig = rig_from_settings(settings, seed, robot=robot)
     impulse = settings["impulse"] or settings["impulse_per_kg"] * rig.config.mass
     force = np.array([0.0, impulse / settings["push_duration"], 0.0])
-    events = [(PUSH_TIME, lambda plant: plant.apply_push(force, settings["push_duration"]))]
-    log = rig.run(DURATION if duration is None else duration, lambda t: (0, np.zeros(3)),
+    events = [push_event(PUSH_TIME, force, settings["push_duration"])]
+    log = rig.run(DURATION if duration is None else duration, stand_command(),
                   events=events)
     add_derived(log)
     rp = np.radians(log["roll_pitch_deg"])

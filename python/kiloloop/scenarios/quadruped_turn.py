@@ -5,8 +5,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..sil.quadruped_rig import (COMMON_DEFAULTS, QUADRUPED_PLOT, add_derived, fell_early,
-                                 rig_from_settings, trot_metrics)
+from ..sil.quadruped_rig import (COMMON_DEFAULTS, CommandSchedule, QUADRUPED_PLOT, add_derived,
+                                 fell_early, rig_from_settings, trot_metrics)
 from . import ScenarioResult, evaluate
 
 NAME = "quadruped-turn"
@@ -25,8 +25,7 @@ def run(settings: dict, seed: int = 0, duration: float | None = None,
     rig = rig_from_settings(settings, seed, robot=robot)
     v = np.array([settings["speed"], 0.0, settings["yaw_rate"]])
 
-    def command(t):
-        return (1, v) if t >= START else (0, np.zeros(3))
+    command = CommandSchedule([(0.0, 0, np.zeros(3)), (START, 1, v)])
 
     log = rig.run(DURATION if duration is None else duration, command, stop_when=fell_early(rig))
     add_derived(log)

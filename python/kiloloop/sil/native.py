@@ -39,7 +39,8 @@ supervised_adapter = _native.supervised_adapter if _native.available else None
 # Event kinds (cpp/sil/events.hpp).
 ESTOP, REFERENCE, FORCE = 0, 1, 2
 # Probe sources (cpp/sil/native_loop.hpp).
-_SENSOR, _SITE_POS, _SITE_MAT, _BODY_POS, _BODY_QUAT, _QPOS, _QVEL = range(7)
+(_SENSOR, _SITE_POS, _SITE_MAT, _BODY_POS, _BODY_QUAT, _QPOS, _QVEL, _BODIES_POS,
+ _CONTACT_FORCE) = range(9)
 
 
 def _load_mujoco() -> str:

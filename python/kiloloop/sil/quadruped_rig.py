@@ -1,9 +1,17 @@
 """SIL rig for the quadruped: MuJoCo floating-base plant + non-idealities + the compiled
 QuadrupedController, at 1 kHz. Scenarios (python/kiloloop/scenarios/quadruped_*.py) script the
 commands and disturbances and judge the log; this file only moves data (no control logic).
+
+Two loops, one log: by default the closed loop runs in C++ (sil/native.py, cpp/sil/
+quadruped_adapter.hpp) when the command is a CommandSchedule, the events are Push-es and the stop
+condition a FellBelow (all data); otherwise, or with native=False, video or ground truth, it runs
+per tick in Python. Both call the same C++ sensor model (noise, quantization: one normal per
+element of y = [q; qd; gyro; accel; quat] per tick from the seed's xoshiro stream) and motor model
+(transport delay, saturation), so they give the same log (tests/test_native_quadruped.py).
 """
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 from typing import Callable
 
@@ -11,11 +19,13 @@ import numpy as np
 
 import kiloloop as kl
 
+from . import native as native_loop
 from .floating_plant import FloatingBasePlant
 from .log import SignalLog
-from .nonideal import MotorDelay, NonIdealities, SensorModel
+from .nonideal import NonIdealities
 
 CONTROL_DT = 0.001  # [s]
+JOINTS = 12
 
 
 @dataclass
@@ -29,6 +39,7 @@ class RigSettings:
     # Ground other than a plane (sil/terrain.py), made from the resolved controller config so
     # that its sizes follow the robot (e.g. stone heights from the swing height).
     terrain: Callable[[object], object] | None = None
+    native: bool = True            # the C++ loop where the run allows it (runs_natively)
 
 
 def quadruped_paths():
@@ -41,6 +52,87 @@ def default_robot():
 
 # command(t) -> (gait 0/1, velocity command (3,)); events: (time [s], action(plant)) run once.
 CommandFn = Callable[[float], tuple[int, np.ndarray]]
+
+
+class CommandSchedule:
+    """A piecewise-constant command as data: segments (start [s], gait 0/1, (vx, vy, yaw rate)),
+    the first at 0; command(t) is the last segment with start <= t. Both loops understand it (the
+    native one as reference events)."""
+
+    def __init__(self, segments):
+        self.segments = [(float(t), int(g), np.array(v, dtype=float)) for t, g, v in segments]
+        if not self.segments or self.segments[0][0] != 0.0:
+            raise ValueError("CommandSchedule: the first segment must start at 0")
+        if any(b[0] < a[0] for a, b in zip(self.segments, self.segments[1:])):
+            raise ValueError("CommandSchedule: segments must be in time order")
+
+    def __call__(self, t: float) -> tuple[int, np.ndarray]:
+        current = self.segments[0]
+        for segment in self.segments[1:]:
+            if t >= segment[0]:
+                current = segment
+        return current[1], current[2]
+
+    def reference_events(self) -> list[tuple]:
+        return [(t, native_loop.REFERENCE, [float(g), *map(float, v)]) for t, g, v in self.segments[1:]]
+
+
+def stand_command() -> CommandSchedule:
+    return CommandSchedule([(0.0, 0, np.zeros(3))])
+
+
+@dataclass
+class Push:
+    """Event action: a constant world-frame force (3,) [N] on the trunk CoM for duration [s]
+    (FloatingBasePlant.apply_push); data, so the native loop runs it as a force event."""
+
+    force: np.ndarray
+    duration: float
+
+    def __call__(self, plant) -> None:
+        plant.apply_push(self.force, self.duration)
+
+
+def push_event(time: float, force, duration: float) -> tuple:
+    return (float(time), Push(np.asarray(force, dtype=float), float(duration)))
+
+
+@dataclass
+class FellBelow:
+    """stop_when: the run ends once the logged trunk height drops below `height` [m]."""
+
+    height: float
+
+    def __call__(self, log: SignalLog) -> bool:
+        return bool(log.last("base_pos")[2] < self.height)
+
+
+class QuadrupedSignals:
+    """The quadruped's sensor and motor models over the flat signal vectors both loops share:
+    y = [q (12); qd (12); gyro (3); accel (3); quat (4)] (plant joint order), u = tau (12)."""
+
+    def __init__(self, nonideal: NonIdealities, seed: int, effort: np.ndarray):
+        nonideal.validate()
+        if nonideal.enabled and (nonideal.quat_sigma > 0 or nonideal.velocity_from_encoder_diff):
+            raise ValueError("quadruped rig: quat_sigma and velocity_from_encoder_diff are not "
+                             "modelled by the C++ sensor path (an IMU model stage will carry them)")
+        on = nonideal.enabled
+        self.seed = int(seed) if seed is not None else 0
+        self.sigma = ([0.0] * 2 * JOINTS + [nonideal.gyro_sigma] * 3 + [nonideal.accel_sigma] * 3
+                      + [0.0] * 4) if on and (nonideal.gyro_sigma > 0 or nonideal.accel_sigma > 0) else []
+        self.quantum = ([nonideal.encoder_resolution] * JOINTS + [0.0] * (JOINTS + 10)
+                        if on and nonideal.encoder_resolution > 0 else [])
+        # Whole ticks, half up, as nonideal.MotorDelay.
+        self.motor_delay_ticks = (int(math.floor(nonideal.motor_delay / CONTROL_DT + 0.5 + 1e-9))
+                                  if on else 0)
+        self.motor_limit = list(nonideal.torque_limit_scale * np.asarray(effort, float)) if on else []
+
+    def sensor(self):
+        return native_loop._native.SensorModel(self.sigma, self.quantum, self.seed, 2 * JOINTS + 10)
+
+    def motor(self):
+        return native_loop._native.MotorModel(self.motor_delay_ticks, 0.0, CONTROL_DT, JOINTS,
+                                              self.motor_limit)
 
 
 class QuadrupedRig:
@@ -67,23 +159,88 @@ class QuadrupedRig:
                                        package_dirs=self.robot.package_dirs,
                                        terrain=None if settings.terrain is None
                                        else settings.terrain(self.config))
+        if self.plant.nq != JOINTS:
+            raise ValueError(f"quadruped rig: expected {JOINTS} joints, the plant has {self.plant.nq}")
         # Joint order: the controller's (leg-major) vs the plant's (URDF); mapped by name.
         plant_index = {name: i for i, name in enumerate(self.plant.joint_names)}
         self.to_ctrl = np.array([plant_index[n] for n in self.controller.joint_names])
         self.to_plant = np.argsort(self.to_ctrl)
-        self.sensors = SensorModel(settings.nonideal, seed=seed)
-        self.motors = MotorDelay(settings.nonideal, control_dt=CONTROL_DT, n=self.plant.nq)
         self.effort = np.asarray(self.controller.effort_limit)[self.to_plant]
+        self.signals = QuadrupedSignals(settings.nonideal, seed, self.effort)
         self.substeps = max(1, round(CONTROL_DT / self.plant.timestep))
         self.input, self.output = kl.QuadrupedInput(), kl.QuadrupedOutput()
 
+    # --- the native loop ---------------------------------------------------------------------
+
+    def runs_natively(self, command, events=(), stop_when=None, native: bool | None = None) -> bool:
+        """Whether run() takes the C++ loop: asked for, built in, no video, no ground truth, and
+        command, events and stop condition given as data."""
+        native = self.settings.native if native is None else native
+        return (native is not False and native_loop.available() and self.settings.video is None
+                and not self.settings.ground_truth and isinstance(command, CommandSchedule)
+                and all(isinstance(action, Push) for _, action in events)
+                and (stop_when is None or isinstance(stop_when, FellBelow)))
+
+    def native_adapter(self, command: CommandSchedule, controller=None):
+        gait, v = command.segments[0][1], command.segments[0][2]
+        return native_loop._native.quadruped_adapter(controller or self.controller,
+                                                     [int(i) for i in self.to_ctrl], gait, v)
+
+    def native_probes(self) -> list[tuple]:
+        """The ground truth QuadrupedRig._record logs, as native probes."""
+        p = self.plant
+        fq, fd = p._free_q, p._free_d
+        feet = [int(i) for i in p._foot_ids]
+        return [("base_pos", native_loop._QPOS, list(range(fq, fq + 3))),
+                ("base_quat", native_loop._QPOS, list(range(fq + 3, fq + 7))),
+                ("base_vel", native_loop._QVEL, list(range(fd, fd + 3))),
+                ("base_omega", native_loop._QVEL, list(range(fd + 3, fd + 6))),
+                ("foot_force", native_loop._CONTACT_FORCE, feet),
+                ("foot_pos", native_loop._BODIES_POS, feet)]
+
+    def native_rollout(self, duration: float, command: CommandSchedule, events=(), stop_when=None,
+                       data=None, adapter=None, seed: int | None = None):
+        """A configured native Rollout of this rig (data: another MjData of plant.model for a
+        batch, set to the state to start from; adapter: one built on another controller; seed:
+        another noise stream than the rig's)."""
+        native_loop.check()
+        p, s = self.plant, self.signals
+        forces = [native_loop.force(t, p._base_id, [*a.force, 0.0, 0.0, 0.0], a.duration)
+                  for t, a in events]
+        stop = (0, 2, float(stop_when.height)) if stop_when is not None else None
+        return native_loop._native.Rollout(
+            p.model, p.data if data is None else data,
+            adapter if adapter is not None else self.native_adapter(command),
+            ticks=native_loop.ticks_of(duration, CONTROL_DT), control_dt=CONTROL_DT,
+            measurement=self.measurement_addresses(), actuators=[int(a) for a in p._act],
+            sigma=s.sigma, quantum=s.quantum, seed=s.seed if seed is None else int(seed),
+            motor_delay_ticks=s.motor_delay_ticks, motor_limit=s.motor_limit,
+            events=command.reference_events() + forces, probes=self.native_probes(), stop=stop)
+
+    def measurement_addresses(self) -> list[int]:
+        p, imu = self.plant, self.plant._imu_adr
+        return ([int(a) for a in p._pos_sens] + [int(a) for a in p._vel_sens]
+                + list(range(imu["gyro"], imu["gyro"] + 3)) + list(range(imu["accel"], imu["accel"] + 3))
+                + list(range(imu["quat"], imu["quat"] + 4)))
+
+    # --- run -----------------------------------------------------------------------------------
+
     def run(self, duration: float, command: CommandFn, events=(), log: SignalLog | None = None,
-            stop_when: Callable[[SignalLog], bool] | None = None) -> SignalLog:
+            stop_when: Callable[[SignalLog], bool] | None = None,
+            native: bool | None = None) -> SignalLog:
+        """The closed loop for `duration` [s]: in C++ when runs_natively() (native None: the
+        settings' choice), else per tick in Python; the same log either way."""
+        log = SignalLog() if log is None else log
+        if self.runs_natively(command, events, stop_when, native):
+            r = self.native_rollout(duration, command, events, stop_when)
+            r.run()
+            if not r.ok:
+                raise RuntimeError(f"native loop stopped at tick {r.ticks_run}: {r.error}")
+            return native_loop.signal_log(r, log)
         from .video import maybe_recorder
 
-        log = SignalLog() if log is None else log
         pending = sorted(events, key=lambda e: e[0])
-        inp, out, plant = self.input, self.output, self.plant
+        plant = self.plant
         recorder = maybe_recorder(self.settings.video, plant.model, body=plant.model.body(plant.base_body).id)
         try:
             self._loop(duration, command, pending, log, stop_when, recorder)
@@ -94,14 +251,18 @@ class QuadrupedRig:
 
     def _loop(self, duration, command, pending, log, stop_when, recorder):
         inp, out, plant = self.input, self.output, self.plant
+        sensor, motor = self.signals.sensor(), self.signals.motor()
+        n = JOINTS
         for k in range(int(round(duration / CONTROL_DT))):
             t = k * CONTROL_DT
             while pending and pending[0][0] <= t + 1e-12:
                 pending.pop(0)[1](plant)
-            imu, q, qd = self.sensors.apply(plant.imu(), plant.joint_q(), plant.joint_qd())
+            imu = plant.imu()
+            y = sensor.apply(np.concatenate([plant.joint_q(), plant.joint_qd(), imu["gyro"],
+                                             imu["accel"], imu["quat"]]))
             inp.t = inp.stamp = t
-            inp.q[:], inp.qd[:] = q[self.to_ctrl], qd[self.to_ctrl]
-            inp.gyro[:], inp.accel[:], inp.quat[:] = imu["gyro"], imu["accel"], imu["quat"]
+            inp.q[:], inp.qd[:] = y[:n][self.to_ctrl], y[n:2 * n][self.to_ctrl]
+            inp.gyro[:], inp.accel[:], inp.quat[:] = y[2 * n:2 * n + 3], y[2 * n + 3:2 * n + 6], y[2 * n + 6:]
             gait, v_cmd = command(t)
             inp.gait, inp.velocity_command[:] = kl.Gait(int(gait)), v_cmd
             pos, quat = plant.base_pose()
@@ -110,8 +271,7 @@ class QuadrupedRig:
                 inp.use_ground_truth = True
                 inp.true_position[:], inp.true_velocity[:], inp.true_quat[:] = pos, vel, quat
             status = self.controller.step(inp, out)
-            tau = self.motors.push(out.tau[self.to_plant])
-            plant.set_torque(self.settings.nonideal.saturate(tau, self.effort))
+            plant.set_torque(motor.push(np.asarray(out.tau)[self.to_plant]))
             self._record(log, t, status, pos, quat, vel, omega, v_cmd)
             plant.step(self.substeps)
             if recorder is not None:
@@ -158,7 +318,8 @@ COMMON_DEFAULTS = {
     "encoder_resolution_deg": 0.1,
     "motor_delay": 0.010,      # [s]
     "physics_dt": 0.001,       # [s]
-    "ground_truth": False,     # controller on the simulator's state (debugging only)
+    "ground_truth": False,     # controller on the simulator's state (debugging only; per-tick loop)
+    "native": True,            # the C++ loop (sil/native.py); false: per tick in Python, same log
 }
 
 
@@ -171,7 +332,8 @@ def rig_from_settings(settings: dict, seed: int, slope_deg: float = 0.0, config=
     nonideal.validate()
     return QuadrupedRig(RigSettings(slope_deg=slope_deg, physics_dt=settings["physics_dt"],
                                     nonideal=nonideal, ground_truth=settings["ground_truth"],
-                                    config=config, video=settings.get("video"), terrain=terrain),
+                                    config=config, video=settings.get("video"), terrain=terrain,
+                                    native=bool(settings.get("native", True))),
                         seed=seed, robot=robot)
 
 
@@ -206,11 +368,9 @@ def add_derived(log) -> None:
 
 
 # Trotting helpers shared by the trotting scenarios (trot, push, turn, slope-trot).
-def trot_command(speed: float, start: float = 0.5):
-    """command(t): stand until `start` [s], then trot forward at `speed` [m/s] (heading frame)."""
-    def command(t):
-        return (1, np.array([speed, 0.0, 0.0])) if t >= start else (0, np.zeros(3))
-    return command
+def trot_command(speed: float, start: float = 0.5) -> CommandSchedule:
+    """Stand until `start` [s], then trot forward at `speed` [m/s] (heading frame)."""
+    return CommandSchedule([(0.0, 0, np.zeros(3)), (start, 1, np.array([speed, 0.0, 0.0]))])
 
 
 def trot_metrics(log, speed: float, since: float, fall_height: float = 0.15) -> dict:
@@ -233,8 +393,6 @@ def trot_metrics(log, speed: float, since: float, fall_height: float = 0.15) -> 
     }
 
 
-def fell_early(rig):
-    """stop_when for trotting runs: the trunk near the ground ends the run."""
-    # Cheap check every tick: the trunk near the ground ends the run (it is a fall either way).
-    low = 0.8 * rig.fall_height
-    return lambda log: log.last("base_pos")[2] < low
+def fell_early(rig) -> FellBelow:
+    """stop_when for trotting runs: the trunk near the ground ends the run (a fall either way)."""
+    return FellBelow(0.8 * rig.fall_height)

@@ -145,6 +145,10 @@ struct QuadrupedInput {
   // Command.
   Gait gait = Gait::kStand;
   Eigen::Vector3d velocity_command = Eigen::Vector3d::Zero();  // [m/s, m/s, rad/s] vx, vy (heading frame), yaw rate
+  // [m] per foot (FL, FR, RL, RR x (x, y, z)), trunk frame: added to each swing leg's foothold
+  // (a learned policy's residual). Clamped to +-kMaxFootholdOffset leg lengths per component;
+  // non-finite is a bad input (status, safe output).
+  Vector12d foothold_offset = Vector12d::Zero();
   // Debugging: run on ground truth instead of the estimate.
   bool use_ground_truth = false;
   Eigen::Vector3d true_position = Eigen::Vector3d::Zero();  // [m] world
@@ -173,6 +177,9 @@ struct QuadrupedOutput {
 class QuadrupedController {
  public:
   static constexpr int kLegs = 4;
+  // [leg lengths] bound on each component of QuadrupedInput::foothold_offset: a quarter leg keeps
+  // the shifted foothold inside the leg's workspace around its nominal place.
+  static constexpr double kMaxFootholdOffset = 0.25;
   static Status configure(const QuadrupedConfig& config, RobotModelPtr model,
                           QuadrupedController* out, std::string* why);
   Status step(const QuadrupedInput& in, QuadrupedOutput& out) noexcept;
@@ -231,6 +238,8 @@ class QuadrupedController {
   void distribute_forces(QuadrupedOutput& out) noexcept;
   void stance_legs(QuadrupedOutput& out) noexcept;
   void safe_output(const QuadrupedInput& in, Vector12d& tau) const noexcept;
+  // in.foothold_offset of leg i, clamped (trunk frame [m]).
+  Eigen::Vector3d foothold_offset(const QuadrupedInput& in, int leg) const noexcept;
   void saturate(Vector12d& tau, Status* status) const noexcept;
 
   QuadrupedConfig cfg_;

@@ -1,0 +1,43 @@
+#pragma once
+// Native SIL adapter of the quadruped family, the C++ twin of the per-tick loop in
+// python/kiloloop/sil/quadruped_rig.py: the same QuadrupedController call on the same signals,
+// logging the same channels, so a native run and a per-tick Python run give the same log.
+//   y = [q (12); qd (12); gyro (3); accel (3); quat (4)]   plant joint order (URDF), IMU site
+//   u = tau (12)                                           plant joint order
+// The controller's joints are leg-major (FL, FR, RL, RR x abd, hip, knee); the rig maps them by
+// name: to_ctrl[j] is the plant index of controller joint j.
+// Commands arrive as kReference events {gait, vx, vy, yaw rate}; foothold offsets (a policy's
+// action) are set between chunks of ticks by set_foothold_offset.
+#include <array>
+
+#include "kiloloop/quadruped/quadruped_controller.hpp"
+#include "sil/adapter.hpp"
+
+namespace kiloloop::sil {
+
+class QuadrupedAdapter final : public Adapter {
+ public:
+  static constexpr int kJoints = 12;
+  static constexpr int kMeasurement = 2 * kJoints + 3 + 3 + 4;
+  // controller: borrowed (the binding keeps its Python object alive); gait, velocity: the command
+  // before the first kReference event.
+  QuadrupedAdapter(QuadrupedController* controller, const std::array<int, kJoints>& to_ctrl, Gait gait,
+                   const Eigen::Vector3d& velocity);
+  int measurement_size() const override { return kMeasurement; }
+  int command_size() const override { return kJoints; }
+  void declare(LogBuffer& log) override;
+  void on_event(const Event& event) noexcept override;
+  int step(double t, double stamp, const double* y, double* u, LogBuffer& log, int k) noexcept override;
+  // [m] per foot, trunk frame (QuadrupedInput::foothold_offset), from the next tick on.
+  void set_foothold_offset(const Vector12d& offset) noexcept { in_.foothold_offset = offset; }
+
+ private:
+  QuadrupedController* c_;
+  std::array<int, kJoints> to_ctrl_;
+  QuadrupedInput in_;
+  QuadrupedOutput out_;
+  int ch_status_ = 0, ch_est_pos_ = 0, ch_est_vel_ = 0, ch_tilt_ = 0, ch_safe_stop_ = 0, ch_contact_ = 0,
+      ch_scheduled_ = 0, ch_clearance_ = 0, ch_tau_ = 0, ch_force_cmd_ = 0, ch_v_cmd_ = 0, ch_qp_ = 0;
+};
+
+}  // namespace kiloloop::sil

@@ -1,0 +1,185 @@
+"""The quadruped row of the native SIL bench (native_bench.py): quadruped-trot (non-idealities
+on) on the default quadruped, its native tick against raw mj_step replaying the torques the
+motors applied in that run (same start state, same motion and contacts), real-time factors on one
+core and on all cores, the 8-rollout batch on 1 and 2 threads, the per-tick Python loop beside
+it, and the gym environment's steps per second (kiloloop/QuadrupedTrot-v0, random actions).
+Same conventions as the arm row: CPU time of the calling thread, least of REPEATS runs."""
+from __future__ import annotations
+
+import os
+import statistics
+import time
+
+import mujoco
+import numpy as np
+
+import kiloloop as kl
+
+from .native_bench import BATCH, REPEATS
+
+
+def _setup():
+    from ..scenarios import parse_settings, quadruped_trot
+    from ..sil.quadruped_rig import rig_from_settings, trot_command
+
+    settings = parse_settings(quadruped_trot.DEFAULTS, None)
+    rig = rig_from_settings(settings, seed=0)
+    return rig, trot_command(settings["speed"])
+
+
+def _rollouts(rig, command, count: int, duration: float) -> list:
+    out = []
+    for seed in range(count):
+        data = mujoco.MjData(rig.plant.model)
+        mujoco.mj_copyData(data, rig.plant.model, rig.plant.data)
+        adapter = rig.native_adapter(command, kl.QuadrupedController(rig.model, rig.config))
+        out.append(rig.native_rollout(duration, command, data=data, adapter=adapter, seed=seed))
+    return out
+
+
+def _timed_batch(rig, command, count, duration, threads, cpu: list | None = None) -> float:
+    from ..sil import batch
+
+    rollouts = _rollouts(rig, command, count, duration)
+    cpu0, start = time.process_time(), time.perf_counter()
+    batch.run(rollouts, threads=threads)
+    wall = time.perf_counter() - start
+    if cpu is not None:
+        cpu.append(time.process_time() - cpu0)
+    assert all(r.ok for r in rollouts), [r.error for r in rollouts if not r.ok]
+    return wall
+
+
+def _applied_torques(rig, tau_ctrl: np.ndarray) -> np.ndarray:
+    """What reached the motors in a native run: the controller's torques (controller order) in
+    plant order, through the transport delay (zeros first) and the saturation."""
+    s = rig.signals
+    tau = tau_ctrl[:, rig.to_plant]
+    delayed = np.zeros_like(tau)
+    d = s.motor_delay_ticks
+    delayed[d:] = tau[:len(tau) - d] if d else tau
+    if s.motor_limit:
+        limit = np.asarray(s.motor_limit)
+        delayed = np.clip(delayed, -limit, limit)
+    return np.ascontiguousarray(delayed)
+
+
+def env_steps_per_second(steps: int, num_envs: int = 0) -> dict:
+    """Random-action rollout of kiloloop/QuadrupedTrot-v0 for `steps` steps (resetting after each
+    episode end): steps per second of wall time; num_envs > 0: the vectorized env on all cores,
+    steps counting every sub-environment's."""
+    from ..envs.quadruped_trot import QuadrupedTrotEnv, QuadrupedTrotVecEnv
+
+    if num_envs:
+        env = QuadrupedTrotVecEnv(num_envs=num_envs)
+        env.action_space.seed(0)
+        env.reset(seed=0)
+        start, done_steps, episodes = time.perf_counter(), 0, 0
+        while done_steps < steps:
+            _, _, term, trunc, _ = env.step(env.action_space.sample())
+            done_steps += num_envs
+            episodes += int(np.sum(term | trunc))
+    else:
+        env = QuadrupedTrotEnv()
+        env.action_space.seed(0)
+        env.reset(seed=0)
+        start, done_steps, episodes = time.perf_counter(), 0, 0
+        while done_steps < steps:
+            _, _, term, trunc, _ = env.step(env.action_space.sample())
+            done_steps += 1
+            if term or trunc:
+                episodes += 1
+                env.reset()
+    wall = time.perf_counter() - start
+    return {"steps": done_steps, "episodes_ended": episodes, "wall_s": wall,
+            "steps_per_second": done_steps / wall,
+            "ticks_per_step": env._core.ticks, "num_envs": num_envs or 1}
+
+
+def quadruped_native(quick: bool) -> dict:
+    from ..sil import native
+
+    duration = 1.0 if quick else 4.0
+    rig, command = _setup()
+    ticks = native.ticks_of(duration)
+    assert round(0.001 / rig.plant.timestep) == 1, "raw replay assumes one physics step per tick"
+    actuators = [int(a) for a in rig.plant._act]
+    raw_cpu, raw_wall, tick_cpu, tick_wall = [], [], [], []
+    for _ in range(REPEATS):
+        r = _rollouts(rig, command, 1, duration)[0]
+        c0, w0 = time.thread_time(), time.perf_counter()
+        r.run()
+        tick_cpu.append(time.thread_time() - c0)
+        tick_wall.append(time.perf_counter() - w0)
+        assert r.ok and r.ticks_run == ticks, r.error
+        ctrl = _applied_torques(rig, r.log()["tau"])
+        data = mujoco.MjData(rig.plant.model)
+        mujoco.mj_copyData(data, rig.plant.model, rig.plant.data)
+        c0, w0 = time.thread_time(), time.perf_counter()
+        native._native.step_raw(rig.plant.model, data, ticks, ctrl, actuators)
+        raw_cpu.append(time.thread_time() - c0)
+        raw_wall.append(time.perf_counter() - w0)
+    raw, tick = min(raw_cpu) / ticks, min(tick_cpu) / ticks
+    # The adapter + controller alone on the start measurement (standing, no physics).
+    ctrl_cpu = []
+    y = rig.plant.data.sensordata[rig.measurement_addresses()].copy()
+    for _ in range(REPEATS):
+        adapter = rig.native_adapter(command, kl.QuadrupedController(rig.model, rig.config))
+        c0 = time.thread_time()
+        native._native.step_adapter(adapter, y, ticks)
+        ctrl_cpu.append(time.thread_time() - c0)
+    controller = min(ctrl_cpu) / ticks
+
+    cores = os.cpu_count() or 1
+    count = max(BATCH, 2 * cores)
+    all_cores = statistics.median(_timed_batch(rig, command, count, duration, cores)
+                                  for _ in range(REPEATS))
+    cpu1: list = []
+    cpu2: list = []
+    t1 = statistics.median(_timed_batch(rig, command, BATCH, duration, 1, cpu1) for _ in range(REPEATS))
+    load1 = os.getloadavg()[0]
+    t2 = statistics.median(_timed_batch(rig, command, BATCH, duration, 2, cpu2) for _ in range(REPEATS))
+
+    py_duration = min(duration, 1.0)
+    py_ticks = native.ticks_of(py_duration)
+
+    def python_loop() -> tuple[float, float]:
+        rig.plant.reset()
+        c0, w0 = time.thread_time(), time.perf_counter()
+        rig.run(py_duration, command, native=False)
+        return time.thread_time() - c0, time.perf_counter() - w0
+
+    py_runs = [python_loop() for _ in range(REPEATS)]
+    rig.plant.reset()
+    py_tick = min(c for c, _ in py_runs) / py_ticks
+    env_steps = 1000 if quick else 10000
+    return {
+        "scenario": "quadruped-trot",
+        "robot": rig.robot.name,
+        "sim_seconds": duration,
+        "ticks": ticks,
+        "physics_dt": rig.plant.timestep,
+        "raw_mj_step_us": raw * 1e6,
+        "tick_us": tick * 1e6,
+        "tick_over_mj_step": tick / raw,
+        "controller_step_us": controller * 1e6,
+        "loop_glue_us": (tick - raw - controller) * 1e6,
+        "tick_over_mj_step_wall": (min(tick_wall) / ticks) / (min(raw_wall) / ticks),
+        "real_time_factor": duration / (tick * ticks),
+        "real_time_factor_wall": duration / min(tick_wall),
+        "cores": cores,
+        "real_time_factor_all_cores": count * duration / all_cores,
+        "batch": BATCH,
+        "batch_1_thread_s": t1,
+        "batch_2_threads_s": t2,
+        "batch_speedup_2_over_1": t1 / t2,
+        "batch_1_thread_cpu_s": statistics.median(cpu1),
+        "batch_2_threads_cpu_s": statistics.median(cpu2),
+        "load_average_1min": 0.5 * (load1 + os.getloadavg()[0]),
+        "python_tick_us": py_tick * 1e6,
+        "python_tick_over_mj_step": py_tick / raw,
+        "python_real_time_factor": py_duration / (py_tick * py_ticks),
+        "python_real_time_factor_wall": py_duration / min(w for _, w in py_runs),
+        "env": env_steps_per_second(env_steps),
+        "env_vector": env_steps_per_second(env_steps, num_envs=BATCH),
+    }
