@@ -1,7 +1,8 @@
 """Per robot family: the compiled controller its firmware runs, the SIL scenario that exercises it
-for a back-to-back check, and the settings that scenario needs for it (the arm's per-tick Python
-loop: the native loop hands the controller to C++, where no Python wrapper can log its steps;
-both loops give the same log, tests/test_native_arm.py)."""
+for a back-to-back check, and the settings that scenario needs for it (the arm's and the
+quadruped's per-tick Python loop: the native loop hands the controller to C++, where no Python
+wrapper can log its steps; both loops give the same log, tests/test_native_arm.py,
+tests/test_native_quadruped.py)."""
 from __future__ import annotations
 
 from dataclasses import dataclass, field
@@ -22,7 +23,8 @@ FAMILIES = {
     "arm": Family("arm", "ComputedTorqueController", "JointControlInput", "JointControlOutput",
                   "kiloloop/control/computed_torque.hpp", "arm-track", {"native": False}),
     "quadruped": Family("quadruped", "QuadrupedController", "QuadrupedInput", "QuadrupedOutput",
-                        "kiloloop/quadruped/quadruped_controller.hpp", "quadruped-stand"),
+                        "kiloloop/quadruped/quadruped_controller.hpp", "quadruped-stand",
+                        {"native": False}),
     "aerial": Family("aerial", "AerialController", "AerialInput", "AerialOutput",
                      "kiloloop/aerial/aerial_controller.hpp", "aerial-hover"),
 }

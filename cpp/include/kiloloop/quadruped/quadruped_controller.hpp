@@ -91,7 +91,9 @@ struct QuadrupedConfig {
   // predicted one actuation delay ahead (when its command lands) from the joint accelerations
   // still in flight, M_leg^-1 (tau - gravity) with M_leg the leg's joint-space inertia standing.
   // The delay left in the loop is then only the predictor's error, so the gains are capped with
-  // swing_prediction_residual * actuation_delay (+ dt) instead of the whole delay.
+  // swing_prediction_residual * actuation_delay (+ dt) instead of the whole delay. Used only
+  // where the delay would otherwise lower the swing gains (swing_frequency * (actuation_delay +
+  // dt) > swing_delay_margin); config() reports whether it is on.
   bool predict_swing = true;
   double swing_prediction_residual = 0.3;  // [-] fraction of the delay the predictor leaves
   Eigen::Vector3d swing_kp = Eigen::Vector3d::Zero();  // [N m/rad] abd, pitch, knee; 0: derived
