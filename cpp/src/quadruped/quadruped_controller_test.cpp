@@ -151,7 +151,7 @@ TEST(QuadrupedController, TiltBeyondTheLimitTripsTheSafeStopInTheSameTick) {
     EXPECT_EQ(fresh.step(in, out), Status::kSafeStop);
   }
   EXPECT_LT(out.tilt, QuadrupedConfig{}.max_tilt);
-  fresh.reset_safe_stop();
+  fresh.reset();
   in.t = in.stamp = 0.301;
   EXPECT_NE(fresh.step(in, out), Status::kSafeStop);
 }
