@@ -89,6 +89,7 @@ Tally fuzz_aerial(std::uint64_t seed, std::uint64_t inputs, volatile std::uint64
     clock.tick(r, stamps, &in.t, &in.stamp);
 
     bool meas_bad = false, ref_bad = false;
+    int resize = -1;
     const int mutations = r.chance(0.4) ? 0 : 1 + r.below(2);
     for (int m = 0; m < mutations; ++m) {
       const bool nonfinite = r.chance(0.5);
@@ -120,10 +121,7 @@ Tally fuzz_aerial(std::uint64_t seed, std::uint64_t inputs, volatile std::uint64
         case 12: case 13: mutate_time(r, stamps.max_age, stamps, &in.t, &in.stamp, desc); break;
         case 14: {  // a wrong size: a measurement always matters, a joint reference in joint mode
           const int which = r.below(5);
-          Eigen::VectorXd* fields[] = {&in.q, &in.qd, &in.q_ref, &in.qd_ref, &in.qdd_ref};
-          static const char* names[] = {"q", "qd", "q_ref", "qd_ref", "qdd_ref"};
-          sizes.apply(r, *fields[which], desc, names[which]);
-          if (fields[which]->size() != nq) (which < 2 ? meas_bad : ref_bad) |= which < 2 || joints;
+          resize = which;  // applied after the value mutations (a poke needs nq entries)
           break;
         }
         default: {  // a mode outside its enum
@@ -140,6 +138,13 @@ Tally fuzz_aerial(std::uint64_t seed, std::uint64_t inputs, volatile std::uint64
           break;
         }
       }
+    }
+    if (resize >= 0) {
+      Eigen::VectorXd* fields[] = {&in.q, &in.qd, &in.q_ref, &in.qd_ref, &in.qdd_ref};
+      static const char* names[] = {"q", "qd", "q_ref", "qd_ref", "qdd_ref"};
+      sizes.apply(r, *fields[resize], desc, names[resize]);
+      if (fields[resize]->size() != nq)
+        (resize < 2 ? meas_bad : ref_bad) |= resize < 2 || in.arm_mode == ArmMode::kJoints;
     }
     meas_bad |= !stamps.fresh(in.t, in.stamp);
     const bool bad = meas_bad || ref_bad;
