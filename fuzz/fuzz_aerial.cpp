@@ -88,7 +88,7 @@ Tally fuzz_aerial(std::uint64_t seed, std::uint64_t inputs, volatile std::uint64
     in.arm_mode = r.chance(0.7) ? ArmMode::kJoints : ArmMode::kEndEffector;
     clock.tick(r, stamps, &in.t, &in.stamp);
 
-    bool meas_bad = false, ref_bad = false;
+    bool meas_bad = false, ref_bad = false, bad_mode = false;
     int resize = -1;
     const int mutations = r.chance(0.4) ? 0 : 1 + r.below(2);
     for (int m = 0; m < mutations; ++m) {
@@ -134,11 +134,20 @@ Tally fuzz_aerial(std::uint64_t seed, std::uint64_t inputs, volatile std::uint64
             in.arm_mode = static_cast<ArmMode>(v);
             desc.add("arm_mode=%d", v);
           }
-          ref_bad = true;
+          bad_mode = true;
           break;
         }
       }
     }
+    // What the input finally holds decides: a second poke into the same entry may overwrite the
+    // first one's NaN with a finite value (measured: 5 clean inputs in 20,000 counted as bad).
+    meas_bad = !(in.position.allFinite() && in.velocity.allFinite() && in.quat.allFinite() &&
+                 in.gyro.allFinite() && in.accel.allFinite() && in.q.allFinite() && in.qd.allFinite());
+    ref_bad = bad_mode ||
+              !(in.position_ref.allFinite() && in.velocity_ref.allFinite() && std::isfinite(in.yaw_ref) &&
+                in.acceleration_ref.allFinite() && in.q_ref.allFinite() && in.qd_ref.allFinite() &&
+                in.qdd_ref.allFinite() && in.ee_position_ref.allFinite() &&
+                in.ee_velocity_ref.allFinite() && in.quat_ref.allFinite());
     if (resize >= 0) {
       Eigen::VectorXd* fields[] = {&in.q, &in.qd, &in.q_ref, &in.qd_ref, &in.qdd_ref};
       static const char* names[] = {"q", "qd", "q_ref", "qd_ref", "qdd_ref"};
