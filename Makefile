@@ -19,7 +19,8 @@ SAN_FUZZ_INPUTS ?= 20000
 JOBS ?= 2
 # LeakSanitizer on; any UB report is fatal (also compiled in: -fno-sanitize-recover=undefined).
 SAN_ENV := ASAN_OPTIONS=detect_leaks=1:abort_on_error=1:strict_string_checks=1 \
-           UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
+           UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
+           LSAN_OPTIONS=suppressions=$(abspath tests/lsan.supp)
 
 .PHONY: demo test bench build system-deps clean robot-matrix matrix fuzz sanitize b2b firmware-loop
 

@@ -195,7 +195,9 @@ void bind_aerial(py::module_& m) {
       .def("step", &AerialController::step, py::arg("input"), py::arg("output"))
       .def("make_input", &AerialController::make_input)
       .def("make_output", &AerialController::make_output)
-      .def("reset", &AerialController::reset)
+      .def("reset", &AerialController::reset,
+           "clear integrators, references, the measurement order and a latched safe stop")
+      .def_property_readonly("counters", &AerialController::counters)
       .def_property_readonly("nq", &AerialController::nq)
       .def_property_readonly("body_mass", &AerialController::body_mass)
       .def_property_readonly("total_mass", &AerialController::total_mass)

@@ -22,7 +22,8 @@ py::class_<Controller> bind_cartesian_controller(py::module_& m, const char* nam
       .def("make_input", &Controller::make_input)
       .def("make_output", &Controller::make_output)
       .def_property_readonly("tip_pose", &Controller::tip_pose)
-      .def("reset", &Controller::reset, "forget the last valid state and the measurement order")
+      .def("reset", &Controller::reset,
+           "forget the last valid state and the measurement order; clear the law's own state")
       .def_property_readonly("counters", &Controller::counters);
   return cls;
 }
@@ -78,7 +79,6 @@ void bind_force(py::module_& m) {
       m, "CartesianImpedanceController", "F = Lambda a_ref + K e + D (v_ref - v); tau = J^T F + C qd + g");
   bind_cartesian_controller<HybridForcePositionController, HybridForcePositionConfig>(
       m, "HybridForcePositionController", "selection-matrix hybrid force/motion control (operational space)")
-      .def("reset_integral", &HybridForcePositionController::reset_integral)
       .def_property_readonly("force_integral", &HybridForcePositionController::force_integral);
 }
 

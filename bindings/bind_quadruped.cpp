@@ -151,7 +151,9 @@ void bind_quadruped(py::module_& m) {
       .def_property_readonly("com", &QuadrupedController::com, "(3) [m] CoM standing, trunk frame")
       .def_property_readonly("inertia", &QuadrupedController::inertia,
                              "(3, 3) [kg m^2] composite inertia about the CoM, trunk axes")
-      .def("reset_safe_stop", &QuadrupedController::reset_safe_stop)
+      .def("reset", &QuadrupedController::reset,
+           "leave a latched safe stop and forget the measurement order")
+      .def_property_readonly("counters", &QuadrupedController::counters)
       .def("foot_position",
            [](const QuadrupedController& c, int leg, const Eigen::Vector3d& q) {
              if (leg < 0 || leg >= QuadrupedController::kLegs) throw py::index_error("leg: 0..3");

@@ -86,6 +86,8 @@ void bind_safety(py::module_& m) {
       .def_property_readonly("mode", &ArmSupervisor::mode)
       .def("make_input", &ArmSupervisor::make_input)
       .def("make_output", &ArmSupervisor::make_output)
+      .def("reset", &ArmSupervisor::reset,
+           "forget the measurement order (leaving a stop is input.reset)")
       .def_property_readonly("counters", &ArmSupervisor::counters);
 }
 

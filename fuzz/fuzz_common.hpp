@@ -119,6 +119,7 @@ Tally fuzz_hybrid_force_position(std::uint64_t, std::uint64_t, volatile std::uin
 Tally fuzz_cartesian_tracking(std::uint64_t, std::uint64_t, volatile std::uint64_t*);
 Tally fuzz_arm_supervisor(std::uint64_t, std::uint64_t, volatile std::uint64_t*);
 Tally fuzz_quadruped(std::uint64_t, std::uint64_t, volatile std::uint64_t*);
+Tally fuzz_aerial(std::uint64_t, std::uint64_t, volatile std::uint64_t*);
 
 std::string models_dir();
 

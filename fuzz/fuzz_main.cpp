@@ -38,6 +38,7 @@ const Target kTargets[] = {
     {"hybrid_force_position", kiloloop::fuzz::fuzz_hybrid_force_position},
     {"arm_supervisor", kiloloop::fuzz::fuzz_arm_supervisor},
     {"quadruped", kiloloop::fuzz::fuzz_quadruped},
+    {"aerial", kiloloop::fuzz::fuzz_aerial},
 };
 
 // What a child hands back through shared memory.

@@ -10,11 +10,12 @@
 
 namespace kiloloop::fuzz {
 
-inline RobotModelPtr load_model(const char* relative) {
+// The whole tree, or the chain from the root to `tip` when one is given.
+inline RobotModelPtr load_model(const char* relative, const char* tip = "") {
   auto model = std::make_shared<RobotModel>();
   std::string why;
   const std::string path = models_dir() + "/" + relative;
-  if (failed(model_from_urdf_file(path, "", "", model.get(), &why))) {
+  if (failed(model_from_urdf_file(path, "", tip, model.get(), &why))) {
     std::fprintf(stderr, "kiloloop_fuzz: cannot load %s: %s\n", path.c_str(), why.c_str());
     std::exit(4);
   }

@@ -28,6 +28,11 @@ def test_missing_and_malformed_urdf_raise_clear_errors(tmp_path):
     with pytest.raises(ValueError, match="bad.urdf"):
         kl.RobotModel.from_urdf(str(bad))
     with pytest.raises(ValueError, match="tip link 'nose'"):
+        kl.RobotModel.from_urdf("<robot name='r'><link name='a'><inertial><mass value='1'/>"
+                                "<inertia ixx='1' iyy='1' izz='1' ixy='0' ixz='0' iyz='0'/>"
+                                "</inertial></link></robot>", tip="nose")
+    # A robot without any mass is refused first, naming why (tests/corpus has the rest).
+    with pytest.raises(ValueError, match="no mass"):
         kl.RobotModel.from_urdf("<robot name='r'><link name='a'/></robot>", tip="nose")
 
 

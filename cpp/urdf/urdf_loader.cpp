@@ -9,6 +9,8 @@
 #include <console_bridge/console.h>
 #include <urdf_parser/urdf_parser.h>
 
+#include "urdf_checks.hpp"
+
 namespace kiloloop {
 namespace {
 
@@ -101,9 +103,15 @@ Status description_from_urdf_string(const std::string& xml, UrdfDescription* out
     urdf_model = urdf::parseURDF(xml);
     parse_errors = log.errors();
   }
-  if (!urdf_model)
+  // urdfdom logs some errors and still returns a model (a number it could not read left at 0):
+  // an error is an error.
+  if (!urdf_model || !parse_errors.empty())
     return fail(why, "invalid URDF " + source + ": " +
                          (parse_errors.empty() ? std::string("parse failed") : parse_errors));
+
+  const std::string problem = urdf_checks::first_problem(*urdf_model);
+  if (!problem.empty()) return fail(why, "invalid URDF " + source + ": " + problem);
+
   for (const auto& [name, joint] : urdf_model->joints_) {
     if (joint->type == urdf::Joint::FLOATING || joint->type == urdf::Joint::PLANAR)
       return fail(why, "URDF " + source + ": joint '" + name +

@@ -46,11 +46,6 @@ void add_subtree(const KDL::SegmentMap::const_iterator& element, const KDL::Fram
   }
 }
 
-// Expands a 1-or-nq gain vector to nq.
-Eigen::VectorXd per_joint(const Eigen::VectorXd& g, int nq) {
-  return g.size() == 1 ? Eigen::VectorXd::Constant(nq, g[0]) : g;
-}
-
 }  // namespace
 
 Status validate(const AerialConfig& c, int nq, std::string* why) {
@@ -186,10 +181,11 @@ Status AerialController::configure(const AerialConfig& config, RobotModelPtr mod
     c.failsafe_thrust_[i] = std::clamp(c.failsafe_thrust_[i], c.cfg_.rotors.thrust_min,
                                        c.allocation_.thrust_max()[i]);
 
-  c.kp_ = per_joint(config.arm_kp, nq);
-  c.kd_ = per_joint(config.arm_kd, nq);
-  c.viscous_ = per_joint(config.arm_viscous, nq);
-  c.coulomb_ = per_joint(config.arm_coulomb, nq);
+  // Per-joint gains (control/rules.hpp; validate() checked their sizes and signs).
+  broadcast_gains(config.arm_kp, nq, &c.kp_);
+  broadcast_gains(config.arm_kd, nq, &c.kd_);
+  broadcast_gains(config.arm_viscous, nq, &c.viscous_);
+  broadcast_gains(config.arm_coulomb, nq, &c.coulomb_);
   c.lower_ = has_arm ? model->lower() : Eigen::VectorXd();
   c.upper_ = has_arm ? model->upper() : Eigen::VectorXd();
   c.effort_ = has_arm ? model->effort_limit() : Eigen::VectorXd();
@@ -211,6 +207,7 @@ Status AerialController::configure(const AerialConfig& config, RobotModelPtr mod
     c.rne_.first_moment(q_nom, &moment, &m_arm);
     c.com_nominal_ = moment / c.m_total_;
   }
+  c.gate_ = MeasurementGate(config.max_measurement_age);
   c.configured_ = true;
   *out = std::move(c);
   return Status::kOk;
@@ -243,6 +240,7 @@ void AerialController::reset() noexcept {
   have_ref_ = have_ik_ = false;
   saturated_prev_ = false;
   safe_stop_ = false;
+  gate_.reset();
 }
 
 // Any output vector, of any size: rotors at the failsafe (or off), arm torques zero.
@@ -277,12 +275,13 @@ Status AerialController::step(const AerialInput& in, AerialOutput& out) noexcept
     s = arm_dynamics(in, out);
     if (!failed(s)) {
       allocate(out);
-      arm_output(in, out);
-      s = worst(tick_.status, guard_output(out));
+      const Status torques = arm_output(in, out);
+      s = worst(tick_.status, guard_output(out, torques));
     }
   }
   out.status = s;
   out.safe_stop = safe_stop_;
+  counters_.record(s);
   return s;
 }
 
@@ -325,11 +324,12 @@ Status AerialController::check_measurements(const AerialInput& in, AerialOutput&
     failsafe(out, false);
     return Status::kNonFiniteMeasurement;
   }
-  const double age = in.t - in.stamp;
-  if (age > cfg_.max_measurement_age || age < -1e-9) {
+  const Status age = gate_.check(in.t, in.stamp);  // control/rules.hpp: age and order
+  if (failed(age)) {
     failsafe(out, false);
-    return Status::kStaleMeasurement;
+    return age;
   }
+  gate_.accept(in.stamp);
   tick_.q = Eigen::Quaterniond(in.quat[0], in.quat[1], in.quat[2], in.quat[3]).normalized();
   tick_.R = tick_.q.toRotationMatrix();
   return Status::kOk;
@@ -561,26 +561,25 @@ void AerialController::allocate(AerialOutput& out) noexcept {
 }
 
 // Arm torques within the effort limits; the end effector where the state puts it.
-void AerialController::arm_output(const AerialInput& in, AerialOutput& out) noexcept {
-  bool clipped = false;
-  for (int i = 0; i < nq_; ++i) {
-    const double t = std::clamp(tau_[i], -effort_[i], effort_[i]);
-    clipped = clipped || t != tau_[i];
-    out.tau[i] = t;
-  }
-  if (clipped) tick_.status = worst(tick_.status, Status::kSaturated);
+Status AerialController::arm_output(const AerialInput& in, AerialOutput& out) noexcept {
+  out.tau = tau_;
+  const Status torques = clip_effort(Status::kOk, out.tau, effort_);  // control/rules.hpp
+  if (!failed(torques)) tick_.status = worst(tick_.status, torques);
   if (nq_ > 0) {
     kin_.forward_kinematics(in.q, T_);
     out.ee_position = in.position + tick_.R * T_.block<3, 1>(0, 3);
   } else {
     out.ee_position = in.position;
   }
+  return torques;
 }
 
-// The contract's last line: whatever happened above, the output is finite (NaN arm torques were
-// once possible from overflowing references); otherwise the failsafe.
-Status AerialController::guard_output(AerialOutput& out) noexcept {
-  if (out.thrust.allFinite() && out.tau.allFinite() && out.wrench.allFinite()) return Status::kOk;
+// The contract's last line: whatever happened above, the output is finite and the arm torques
+// were (NaN arm torques were once possible from overflowing references; clip_effort zeroes them
+// and fails); otherwise the failsafe.
+Status AerialController::guard_output(AerialOutput& out, Status torques) noexcept {
+  if (!failed(torques) && out.thrust.allFinite() && out.tau.allFinite() && out.wrench.allFinite())
+    return Status::kOk;
   failsafe(out, false);
   return Status::kSolverFailed;
 }

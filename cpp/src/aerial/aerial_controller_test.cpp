@@ -142,6 +142,24 @@ TEST(AerialController, BadMeasurementsGiveTheFailsafe) {
   check(in, Status::kBadSize);
 }
 
+// The shared measurement rule (control/rules.hpp): a stamp older than one already used is stale,
+// every step is counted by its status, and reset() forgets the order.
+TEST(AerialController, TimeGoingBackwardsIsStaleCountedAndForgottenByReset) {
+  AerialController c = make();
+  AerialOutput out = c.make_output();
+  AerialInput in = hover_input(c);
+  in.t = in.stamp = 0.010;
+  EXPECT_EQ(c.step(in, out), Status::kOk);
+  in.t = in.stamp = 0.005;
+  EXPECT_EQ(c.step(in, out), Status::kStaleMeasurement);
+  EXPECT_EQ(c.counters().ticks, 2u);
+  EXPECT_EQ(c.counters().count(Status::kOk), 1u);
+  EXPECT_EQ(c.counters().count(Status::kStaleMeasurement), 1u);
+  c.reset();
+  EXPECT_EQ(c.step(in, out), Status::kOk);
+  EXPECT_EQ(c.counters().ticks, 3u);  // kept by reset()
+}
+
 TEST(AerialController, BadReferenceHoldsTheLastValidOne) {
   AerialController c = make();
   AerialInput in = hover_input(c);

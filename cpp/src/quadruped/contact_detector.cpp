@@ -1,6 +1,18 @@
 #include "kiloloop/quadruped/contact_detector.hpp"
 
+#include <cmath>
+
 namespace kiloloop {
+
+Status validate(const ContactConfig& c, std::string* why) {
+  const bool finite = std::isfinite(c.force_on) && std::isfinite(c.force_off) &&
+                      std::isfinite(c.early_touchdown) && std::isfinite(c.touchdown_clearance);
+  if (finite && c.force_on > c.force_off && c.force_off >= 0 && c.early_touchdown >= 0 &&
+      c.early_touchdown <= 1)
+    return Status::kOk;
+  if (why) *why = "contact: need finite values, force_on > force_off >= 0, 0 <= early_touchdown <= 1";
+  return Status::kInvalidConfig;
+}
 
 void ContactDetector::update(const std::array<LegPhase, kLegs>& schedule,
                              const std::array<double, kLegs>& normal_force,

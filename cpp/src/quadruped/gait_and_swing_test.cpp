@@ -60,7 +60,7 @@ TEST(SwingTrajectory, SmoothAtBothEndsAndReachesTheApex) {
 
 TEST(ContactDetector, HysteresisAndPhaseGating) {
   ContactDetector det;
-  det.configure(ContactConfig{});
+  ASSERT_EQ(det.configure(ContactConfig{}, nullptr), Status::kOk);
   std::array<LegPhase, 4> sched{};
   std::array<double, 4> force{};
   std::array<double, 4> clearance{};
@@ -90,7 +90,7 @@ TEST(ContactDetector, HysteresisAndPhaseGating) {
 
 TEST(ContactDetector, LandedFootCountsBeforeItsForceBuildsUp) {
   ContactDetector det;
-  det.configure(ContactConfig{});
+  ASSERT_EQ(det.configure(ContactConfig{}, nullptr), Status::kOk);
   std::array<LegPhase, 4> sched{};
   std::array<double, 4> force{}, clearance{};
   for (auto& s : sched) s.stance = false, s.progress = 0.2;

@@ -9,9 +9,15 @@ namespace {
 constexpr double kTrotOffset[GaitScheduler::kLegs] = {0.0, 0.5, 0.5, 0.0};
 }  // namespace
 
+Status validate(const GaitConfig& config, std::string* why) {
+  if (std::isfinite(config.period) && config.period > 0.0 && config.duty > 0.5 && config.duty < 1.0)
+    return Status::kOk;
+  if (why) *why = "gait: need period > 0, 0.5 < duty < 1";
+  return Status::kInvalidConfig;
+}
+
 Status GaitScheduler::configure(const GaitConfig& config) {
-  if (!(config.period > 0.0) || !(config.duty > 0.5) || !(config.duty < 1.0))
-    return Status::kInvalidConfig;
+  if (failed(validate(config, nullptr))) return Status::kInvalidConfig;
   cfg_ = config;
   gait_ = Gait::kStand;
   for (auto& leg : legs_) leg = LegPhase{true, 0.0, std::numeric_limits<double>::infinity()};

@@ -10,6 +10,7 @@
 #include <utility>
 #include <vector>
 
+#include "kiloloop/control/rules.hpp"
 #include "kiloloop/trajectory/swing_trajectory.hpp"
 
 namespace kiloloop {
@@ -257,7 +258,7 @@ Status QuadrupedController::configure(const QuadrupedConfig& config, RobotModelP
   cfg.force.fz_min = cfg.fz_min * weight;
   cfg.force.fz_max = cfg.fz_max * weight;
   if (failed(c.gait_.configure(cfg.gait))) return fail("gait: need period > 0, 0.5 < duty < 1");
-  c.contacts_.configure(cfg.contact);
+  if (failed(c.contacts_.configure(cfg.contact, why))) return Status::kInvalidConfig;
   EstimatorConfig est = cfg.estimator;
   est.dt = cfg.dt;
   c.estimator_.configure(est);
@@ -270,6 +271,7 @@ Status QuadrupedController::configure(const QuadrupedConfig& config, RobotModelP
   c.qdd_in_flight_.configure(n_flight, Vector12d::Zero());
   c.schedule_in_flight_.configure(n_flight, c.gait_.legs());
   c.acting_schedule_ = c.gait_.legs();
+  c.gate_ = MeasurementGate(c.cfg_.max_measurement_age);
   c.configured_ = true;
   *out = std::move(c);
   return Status::kOk;
@@ -280,6 +282,7 @@ Status QuadrupedController::step(const QuadrupedInput& in, QuadrupedOutput& out)
   tick_.accel.setZero();
   tick_.qdd.setZero();
   out.status = run(in, out);
+  counters_.record(out.status);
   // Whatever was sent is now in flight (held and safe outputs included).
   tau_in_flight_.push(out.tau);
   accel_in_flight_.push(tick_.accel);
@@ -300,15 +303,10 @@ void QuadrupedController::safe_output(const QuadrupedInput& in, Vector12d& tau) 
   }
 }
 
+// The shared rule (control/rules.hpp): clamp to +-effort; a non-finite torque becomes 0 and the
+// step fails.
 void QuadrupedController::saturate(Vector12d& tau, Status* status) const noexcept {
-  bool clipped = false;
-  for (int i = 0; i < 12; ++i) {
-    const double v = std::isfinite(tau[i]) ? tau[i] : 0.0;
-    const double c = std::clamp(v, -effort_[i], effort_[i]);
-    clipped |= c != tau[i];
-    tau[i] = c;
-  }
-  if (clipped) *status = worst(*status, Status::kSaturated);
+  *status = clip_effort(*status, tau, effort_);
 }
 
 // The 1 kHz tick as a short list of stages over the per-tick scratch `tick_` (each stage reads
@@ -334,15 +332,16 @@ Status QuadrupedController::run(const QuadrupedInput& in, QuadrupedOutput& out) 
 // 1. Inputs. Bad sensors: hold the last command (a glitch must not drop the robot).
 bool QuadrupedController::read_inputs(const QuadrupedInput& in, QuadrupedOutput& out) noexcept {
   Tick& k = tick_;
-  const double age = in.t - in.stamp;
-  if (!finite_input(in) || age > cfg_.max_measurement_age || age < -cfg_.max_measurement_age) {
-    k.status = finite_input(in) ? Status::kStaleMeasurement : Status::kNonFiniteMeasurement;
+  const Status age = gate_.check(in.t, in.stamp);  // control/rules.hpp: age and order
+  if (!finite_input(in) || failed(age)) {
+    k.status = finite_input(in) ? age : Status::kNonFiniteMeasurement;
     if (have_output_) out.tau = tau_prev_;
     else safe_output(in, out.tau);
     Status ignored = k.status;
     saturate(out.tau, &ignored);
     return false;
   }
+  gate_.accept(in.stamp);
   k.status = Status::kOk;
   k.command = in.velocity_command;
   k.requested = in.gait == Gait::kTrot ? Gait::kTrot : Gait::kStand;

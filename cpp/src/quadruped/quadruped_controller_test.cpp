@@ -129,6 +129,24 @@ TEST(QuadrupedController, NonFiniteSensorsHoldTheLastCommand) {
   in.t = 1.0;  // stamp 0.001: a stale measurement
   EXPECT_EQ(c.step(in, out), Status::kStaleMeasurement);
   EXPECT_TRUE(out.tau.allFinite());
+  EXPECT_EQ(c.counters().ticks, 3u);
+  EXPECT_EQ(c.counters().count(Status::kNonFiniteMeasurement), 1u);
+  EXPECT_EQ(c.counters().count(Status::kStaleMeasurement), 1u);
+}
+
+// Time going backwards (a stamp older than one already used) is stale: control/rules.hpp's
+// order rule; reset() forgets the order.
+TEST(QuadrupedController, TimeGoingBackwardsIsStaleUntilReset) {
+  QuadrupedController c = make_controller();
+  QuadrupedInput in = standing_input(c);
+  QuadrupedOutput out;
+  in.t = in.stamp = 0.010;
+  EXPECT_FALSE(failed(c.step(in, out)));
+  in.t = in.stamp = 0.005;
+  EXPECT_EQ(c.step(in, out), Status::kStaleMeasurement);
+  EXPECT_TRUE(out.tau.allFinite());
+  c.reset();
+  EXPECT_FALSE(failed(c.step(in, out)));
 }
 
 TEST(QuadrupedController, TiltBeyondTheLimitTripsTheSafeStopInTheSameTick) {
@@ -151,7 +169,7 @@ TEST(QuadrupedController, TiltBeyondTheLimitTripsTheSafeStopInTheSameTick) {
     EXPECT_EQ(fresh.step(in, out), Status::kSafeStop);
   }
   EXPECT_LT(out.tilt, QuadrupedConfig{}.max_tilt);
-  fresh.reset_safe_stop();
+  fresh.reset();
   in.t = in.stamp = 0.301;
   EXPECT_NE(fresh.step(in, out), Status::kSafeStop);
 }

@@ -19,13 +19,23 @@ Eigen::Matrix3d skew(const Eigen::Vector3d& v) {
 
 }  // namespace
 
+Status validate(const StanceForceConfig& config, std::string* why) {
+  const bool finite = std::isfinite(config.mu) && std::isfinite(config.fz_max) &&
+                      std::isfinite(config.regularization) && std::isfinite(config.smoothing) &&
+                      config.wrench_weight.allFinite();
+  if (finite && config.mu > 0 && config.fz_min >= 0 && config.fz_max > config.fz_min &&
+      config.regularization >= 0 && config.smoothing >= 0 &&
+      (config.wrench_weight.array() >= 0).all() && config.max_iterations >= 1)
+    return Status::kOk;
+  if (why)
+    *why = "stance force: need mu > 0, 0 <= fz_min < fz_max, non-negative weights, finite values, "
+           "max_iterations >= 1";
+  return Status::kInvalidConfig;
+}
+
 Status StanceForceQp::configure(const StanceForceConfig& config, StanceForceQp* out, std::string* why) {
-  if (!(config.mu > 0) || !(config.fz_min >= 0) || !(config.fz_max > config.fz_min) ||
-      !(config.regularization >= 0) || !(config.smoothing >= 0) ||
-      (config.wrench_weight.array() < 0).any()) {
-    if (why) *why = "stance force: need mu > 0, 0 <= fz_min < fz_max, non-negative weights";
-    return Status::kInvalidConfig;
-  }
+  const Status valid = validate(config, why);
+  if (failed(valid)) return valid;
   qp::QpSettings settings;
   settings.max_iterations = config.max_iterations;
   StanceForceQp s;

@@ -109,9 +109,13 @@ class Robot:
         if d["kind"] not in schema.KINDS:
             raise RobotFileError(f"{where}: kind = {d['kind']!r}; expected one of "
                                  f"{', '.join(schema.KINDS)}")
-        bad = schema.unknown_keys(d, schema.schema_for(d["kind"]))
+        template = schema.schema_for(d["kind"])
+        bad = schema.unknown_keys(d, template)
         if bad:
             raise RobotFileError(f"{where}: unknown key '{bad[0]}'")
+        bad = schema.bad_values(d, template)
+        if bad:
+            raise RobotFileError(f"{where}: {bad[0]}")
         for section, keys in _REQUIRED[d["kind"]].items():
             for k in keys:
                 if not d.get(section, {}).get(k):

@@ -7,6 +7,8 @@ from the readers' own default tables so that they cannot drift apart.
 """
 from __future__ import annotations
 
+import math
+
 FREE = object()  # any value (a table of user-chosen names, or a value checked elsewhere)
 
 KINDS = ("arm", "quadruped", "aerial")
@@ -92,3 +94,47 @@ def unknown_keys(data: dict, template: dict, prefix: str = "") -> list[str]:
                 continue
             bad.extend(unknown_keys(value, sub, path + "."))
     return bad
+
+
+def bad_values(data: dict, template: dict, prefix: str = "") -> list[str]:
+    """Dotted paths, each with what is wrong, of values that cannot be what their key documents:
+    a number that is not finite (NaN or Inf: no setting means either; anywhere in the file, FREE
+    tables included), and where the template's default is a number, a string or a boolean, a value
+    of another type (a number's key also takes a list of numbers: per-joint values)."""
+    bad = []
+    for key, value in data.items():
+        path = f"{prefix}{key}"
+        sub = template.get(key, FREE) if isinstance(template, dict) else FREE
+        if isinstance(value, dict):
+            bad.extend(bad_values(value, sub if isinstance(sub, dict) else FREE, path + "."))
+            continue
+        if not _finite(value):
+            bad.append(f"{path}: not a finite number (NaN or Inf)")
+            continue
+        if sub is FREE or isinstance(sub, dict) or sub is None:
+            continue
+        if isinstance(sub, bool):
+            if not isinstance(value, bool):
+                bad.append(f"{path}: expected true or false, got {value!r}")
+        elif isinstance(sub, (int, float)):
+            items = value if isinstance(value, list) else [value]
+            if not items or not all(_number(v) for v in items):
+                bad.append(f"{path}: expected a number (or a list of numbers), got {value!r}")
+        elif isinstance(sub, str) and not isinstance(value, str):
+            bad.append(f"{path}: expected a string, got {value!r}")
+    return bad
+
+
+def _number(v) -> bool:
+    return isinstance(v, (int, float)) and not isinstance(v, bool)
+
+
+def _finite(value) -> bool:
+    """False when value is, or contains (lists, tables), a NaN or an infinity."""
+    if isinstance(value, float):
+        return math.isfinite(value)
+    if isinstance(value, list):
+        return all(_finite(v) for v in value)
+    if isinstance(value, dict):
+        return all(_finite(v) for v in value.values())
+    return True

@@ -34,6 +34,7 @@
 #include "kiloloop/aerial/floating_base_rne.hpp"
 #include "kiloloop/aerial/position_controller.hpp"
 #include "kiloloop/aerial/rotor_allocation.hpp"
+#include "kiloloop/control/rules.hpp"
 #include "kiloloop/dynamics/dynamics.hpp"
 #include "kiloloop/model/robot_model.hpp"
 #include "kiloloop/status.hpp"
@@ -175,7 +176,10 @@ class AerialController {
   const Eigen::Matrix3d& rigid_inertia() const { return J_rigid_; }  // with the arm at nominal
   double hover_thrust() const { return m_total_ * gravity_norm_; }   // [N] total
   const AerialConfig& config() const { return cfg_; }
-  void reset() noexcept;  // clears integrators, references and a latched safe stop
+  // Clears integrators, references, the measurement order and a latched safe stop (counters kept).
+  void reset() noexcept;
+  // The statuses step returned since configure (one StatusCounters for every controller).
+  const StatusCounters& counters() const { return counters_; }
 
  private:
   // The stages of step(), in order; each reads and writes tick_ and the workspace.
@@ -190,8 +194,8 @@ class AerialController {
   void thrust_and_attitude(const AerialInput& in, AerialOutput& out) noexcept;
   Status arm_dynamics(const AerialInput& in, AerialOutput& out) noexcept;
   void allocate(AerialOutput& out) noexcept;
-  void arm_output(const AerialInput& in, AerialOutput& out) noexcept;
-  Status guard_output(AerialOutput& out) noexcept;
+  Status arm_output(const AerialInput& in, AerialOutput& out) noexcept;  // clip_effort's status
+  Status guard_output(AerialOutput& out, Status torques) noexcept;
 
   Status accept_references(const AerialInput& in) noexcept;
   Status arm_target(const Eigen::Matrix3d& R, const AerialInput& in) noexcept;
@@ -231,6 +235,8 @@ class AerialController {
   Eigen::Vector3d reaction_tau_prev_ = Eigen::Vector3d::Zero();  // [N m] for the lead's rate
   Eigen::Vector3d reaction_tau_rate_ = Eigen::Vector3d::Zero();  // [N m/s] low-passed
   bool have_reaction_ = false;
+  MeasurementGate gate_;  // max_measurement_age and the order of the stamps
+  StatusCounters counters_;
   bool safe_stop_ = false;
   bool configured_ = false;
 };

@@ -48,10 +48,11 @@ class CartesianTorqueController {
   CartesianControlOutput make_output() const { return make_cartesian_output(nq()); }
   const StatusCounters& counters() const { return counters_; }
   // Back to the state right after configure: no last valid position, no measurement order, no
-  // previous tick time (counters kept). A law's own state has its own reset (reset_integral).
+  // previous tick time, the law's own state cleared (reset_law); counters kept.
   void reset() noexcept {
     has_valid_q_ = has_last_t_ = false;
     gate_.reset();
+    reset_law();
   }
   // Tip pose of the last valid measurement (root frame): handy to initialise references.
   const Eigen::Matrix4d& tip_pose() const { return T_; }
@@ -61,6 +62,8 @@ class CartesianTorqueController {
   // The law: writes the task wrench F [N; N m] from the quantities below and the input (its
   // references and measured wrench). A failed status makes step() hold.
   virtual Status law(const CartesianControlInput& in, Vector6d& F) noexcept = 0;
+  // The law's own state (an integral) back to its configure value, part of reset().
+  virtual void reset_law() noexcept {}
 
   Dynamics dyn_;
   // Filled before law() runs.

@@ -37,12 +37,11 @@ class HybridForcePositionController : public CartesianTorqueController {
  public:
   static Status configure(const HybridForcePositionConfig& config, RobotModelPtr model,
                           HybridForcePositionController* out, std::string* why);
-  // Zeroes the force integral (e.g. when a new contact task starts).
-  void reset_integral() { integral_.setZero(); }
   const Vector6d& force_integral() const { return integral_; }  // task frame [N; N m]
 
  private:
   Status law(const CartesianControlInput& in, Vector6d& F) noexcept override;
+  void reset_law() noexcept override { integral_.setZero(); }  // e.g. a new contact task
 
   HybridForcePositionConfig config_;
   Eigen::Matrix<double, 6, 6> R6_ = Eigen::Matrix<double, 6, 6>::Identity();

@@ -12,6 +12,7 @@
 // leg commands little force until its PD error builds up (measured: ~75 ms after the foot
 // physically lands, with a 10 ms motor delay). Kinematics sees the landing at once.
 #include <array>
+#include <string>
 
 #include "kiloloop/quadruped/gait_scheduler.hpp"
 
@@ -24,10 +25,19 @@ struct ContactConfig {
   double touchdown_clearance = 0.005;  // [m] foot clearance that counts as landed (<= 0: off)
 };
 
+// Finite; force_on > force_off >= 0; early_touchdown in [0, 1]; the reason in *why.
+Status validate(const ContactConfig& config, std::string* why);
+
 class ContactDetector {
  public:
   static constexpr int kLegs = GaitScheduler::kLegs;
-  void configure(const ContactConfig& config) { cfg_ = config; contact_.fill(true); }
+  Status configure(const ContactConfig& config, std::string* why) {
+    const Status s = validate(config, why);
+    if (failed(s)) return s;
+    cfg_ = config;
+    contact_.fill(true);
+    return Status::kOk;
+  }
   // normal_force: estimated ground reaction along the ground normal [N], one per leg;
   // clearance: foot distance above the estimated ground plane [m], one per leg.
   void update(const std::array<LegPhase, kLegs>& schedule, const std::array<double, kLegs>& normal_force,

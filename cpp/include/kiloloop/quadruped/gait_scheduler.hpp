@@ -7,6 +7,7 @@
 // Transitions are smooth: a trot starts at phase 0 (both pairs on the ground, since duty > 0.5),
 // and a stop request is honoured only at a moment when all four legs are in stance.
 #include <array>
+#include <string>
 
 #include "kiloloop/status.hpp"
 
@@ -18,6 +19,9 @@ struct GaitConfig {
   double period = 0.6;  // [s] full gait cycle
   double duty = 0.6;    // stance fraction of the cycle (> 0.5 so a trot has 4-stance moments)
 };
+
+// period > 0 and 0.5 < duty < 1; the reason in *why.
+Status validate(const GaitConfig& config, std::string* why);
 
 struct LegPhase {
   bool stance = true;          // scheduled on the ground

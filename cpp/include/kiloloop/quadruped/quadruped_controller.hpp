@@ -10,6 +10,7 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
+#include "kiloloop/control/rules.hpp"
 #include "kiloloop/kinematics/leg_gravity.hpp"
 #include "kiloloop/kinematics/leg_kinematics.hpp"
 #include "kiloloop/model/robot_model.hpp"
@@ -196,7 +197,14 @@ class QuadrupedController {
   const Vector12d& crouch_pose() const { return crouch_q_; } // [rad] safe-stop posture
   const Eigen::Vector3d& com() const { return com_; }        // [m] whole-robot CoM standing, trunk frame
   const Eigen::Matrix3d& inertia() const { return inertia_; } // [kg m^2] composite, about the CoM
-  void reset_safe_stop() noexcept { safe_stop_ = false; }
+  // The statuses step returned since configure (one StatusCounters for every controller).
+  const StatusCounters& counters() const { return counters_; }
+  // Leaves a latched safe stop and forgets the measurement order (a new run, a new clock); the
+  // estimate, the gait and the counters are kept.
+  void reset() noexcept {
+    safe_stop_ = false;
+    gate_.reset();
+  }
 
  private:
   // Per-tick scratch: what one stage of run() hands to the next (fixed size, in the workspace).
@@ -262,6 +270,8 @@ class QuadrupedController {
   StateEstimator estimator_;
   StanceForceQp force_qp_;
   Tick tick_;
+  MeasurementGate gate_;  // max_measurement_age and the order of the stamps
+  StatusCounters counters_;
   // Commands in flight to the motors (actuation_delay / dt ticks): joint torques, and the trunk
   // accelerations [linear; angular] (world) they command.
   InFlight<Vector12d> tau_in_flight_;

@@ -35,6 +35,9 @@ struct StanceForceConfig {
   int max_iterations = 100;
 };
 
+// mu > 0, 0 <= fz_min < fz_max, non-negative weights, max_iterations >= 1; the reason in *why.
+Status validate(const StanceForceConfig& config, std::string* why);
+
 class StanceForceQp {
  public:
   static constexpr int kLegs = 4;

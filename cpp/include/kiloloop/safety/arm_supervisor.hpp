@@ -105,8 +105,9 @@ class ArmSupervisor {
                           std::string* why);
 
   Status step(const SupervisorInput& in, SupervisorOutput& out) noexcept;
-  // Forgets the measurement order (a new run, a new clock). Leaving a stop is `in.reset`.
-  void reset_measurement_order() noexcept { gate_.reset(); }
+  // Forgets the measurement order (a new run, a new clock); counters kept. Leaving a stop is
+  // `in.reset` (an operator's act, through the input).
+  void reset() noexcept { gate_.reset(); }
 
   int nq() const { return dyn_.nq(); }
   SupervisorInput make_input() const;
