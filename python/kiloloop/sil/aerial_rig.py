@@ -570,15 +570,26 @@ def add_derived(log) -> None:
     log.put("att_err_deg", np.degrees(rotation_vector_error(log["base_quat"], log["quat_des"])))
 
 
-def hold(rig):
-    """Hover point and the arm at its start pose (controller order)."""
-    hover = rig.hover_pos.copy()
-    q0 = rig.plant.q0.copy()[rig.to_ctrl]
+class Hold:
+    """Command: the hover point and the arm at its start pose (controller order), constant; its
+    reference table is one row (the adapter holds the last row), so nothing is sampled per tick."""
 
-    def command(t, inp):
-        inp.position_ref[:] = hover
-        inp.q_ref[:] = q0
-    return command
+    def __init__(self, hover, q0):
+        self.hover, self.q0 = np.asarray(hover, float), np.asarray(q0, float)
+
+    def __call__(self, t, inp) -> None:
+        inp.position_ref[:] = self.hover
+        inp.q_ref[:] = self.q0
+
+    def table(self, controller, ticks: int) -> np.ndarray:
+        inp = controller.make_input()
+        self(0.0, inp)
+        return _reference_row(inp, controller.nq)[None, :]
+
+
+def hold(rig) -> Hold:
+    """Hover point and the arm at its start pose (controller order)."""
+    return Hold(rig.hover_pos.copy(), rig.plant.q0.copy()[rig.to_ctrl])
 
 
 def hold_errors(log, after) -> dict:
