@@ -159,6 +159,7 @@ REFERENCE_FIELDS = (("position_ref", 3), ("velocity_ref", 3), ("acceleration_ref
                     ("yaw_ref", 1), ("flight_mode", 1), ("quat_ref", 4), ("arm_mode", 1),
                     ("ee_position_ref", 3), ("ee_velocity_ref", 3))
 ARM_REFERENCE_FIELDS = ("q_ref", "qd_ref", "qdd_ref")
+REFERENCE_WIDTH = sum(w for _, w in REFERENCE_FIELDS)  # the arm's 3 nq columns follow
 
 
 def reference_table(controller, command, ticks: int) -> np.ndarray:
@@ -170,14 +171,15 @@ def reference_table(controller, command, ticks: int) -> np.ndarray:
         return np.ascontiguousarray(command.table(controller, ticks), dtype=float)
     inp = controller.make_input()
     nq = controller.nq
-    table = np.empty((ticks, native_loop._native.AERIAL_REFERENCE_WIDTH + 3 * nq))
+    table = np.empty((ticks, REFERENCE_WIDTH + 3 * nq))
     for k in range(ticks):
         command(k * CONTROL_DT, inp)
-        table[k] = _reference_row(inp, nq)
+        table[k] = reference_row(inp, nq)
     return table
 
 
-def _reference_row(inp, nq: int) -> np.ndarray:
+def reference_row(inp, nq: int) -> np.ndarray:
+    """The input's references as one row of the adapter's table (AerialAdapter::Ref layout)."""
     return np.concatenate([np.asarray(inp.position_ref, float), inp.velocity_ref,
                            inp.acceleration_ref, [inp.yaw_ref, int(inp.flight_mode)],
                            inp.quat_ref, [int(inp.arm_mode)], inp.ee_position_ref,
@@ -584,7 +586,7 @@ class Hold:
     def table(self, controller, ticks: int) -> np.ndarray:
         inp = controller.make_input()
         self(0.0, inp)
-        return _reference_row(inp, controller.nq)[None, :]
+        return reference_row(inp, controller.nq)[None, :]
 
 
 def hold(rig) -> Hold:
