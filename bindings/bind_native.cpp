@@ -6,6 +6,8 @@
 #ifdef KILOLOOP_NATIVE_SIL
 #include <dlfcn.h>
 
+#include <cmath>
+
 #include <cstdint>
 #include <memory>
 #include <optional>
@@ -14,11 +16,14 @@
 
 #include "kiloloop/control/computed_torque.hpp"
 #include "kiloloop/control/joint_pd_gravity.hpp"
+#include "sil/aerial_adapter.hpp"
 #include "sil/arm_adapters.hpp"
+#include "sil/attitude_noise.hpp"
 #include "sil/batch.hpp"
 #include "sil/mujoco_api.hpp"
 #include "sil/native_loop.hpp"
 #include "sil/quadruped_adapter.hpp"
+#include "sil/wind_drag.hpp"
 #endif
 
 namespace kiloloop::py_glue {
@@ -148,12 +153,87 @@ void bind_native(py::module_& parent) {
         py::arg("adapter"), py::arg("offset"),
         "(12) [m] per foot, trunk frame, added to the swing footholds from the next tick on");
 
+  m.def("aerial_adapter",
+        [](py::object controller, std::vector<int> to_ctrl, const Array& references) {
+          auto* c = &controller.cast<AerialController&>();
+          if (static_cast<int>(to_ctrl.size()) != c->nq()) throw py::value_error("to_ctrl: expected one plant index per arm joint");
+          for (int j : to_ctrl)
+            if (j < 0 || j >= c->nq()) throw py::value_error("to_ctrl: expected plant joint indices 0..nq-1");
+          if (references.ndim() != 2 || references.shape(0) < 1 || references.shape(1) != AerialAdapter::width(c->nq()))
+            throw py::value_error("references: expected (rows >= 1, " + std::to_string(AerialAdapter::width(c->nq())) + ")");
+          std::vector<double> table(references.data(), references.data() + references.size());
+          for (double x : table)
+            if (!std::isfinite(x)) throw py::value_error("references: non-finite value");
+          return PyAdapter{std::make_shared<AerialAdapter>(c, std::move(to_ctrl), std::move(table)), {controller}};
+        },
+        py::arg("controller"), py::arg("to_ctrl"), py::arg("references"),
+        "y = [position; velocity; gyro; accel; quat; q; qd] -> AerialController -> [thrust; tau] (plant order); "
+        "references: one row per tick (AerialAdapter::Ref layout)");
+  m.attr("AERIAL_REFERENCE_WIDTH") = static_cast<int>(AerialAdapter::kReferenceWidth);
+
+  py::class_<SensorStage, std::shared_ptr<SensorStage>>(m, "SensorStage", "a measurement stage (sensor_stage.hpp)");
+  py::class_<AttitudeNoise, SensorStage, std::shared_ptr<AttitudeNoise>>(
+      m, "AttitudeNoise", "small random body-frame rotation of the quaternion y[offset..offset+3] (seeded)")
+      .def(py::init([](int offset, double sigma, unsigned long long seed, int n) {
+             auto s = std::make_shared<AttitudeNoise>(offset, sigma, seed);
+             std::string why;
+             if (!s->configure(n, &why)) throw py::value_error(why);
+             return s;
+           }),
+           py::arg("offset"), py::arg("sigma"), py::arg("seed"), py::arg("n"))
+      .def("apply", [](AttitudeNoise& s, const Array& y, double t) {
+        if (y.ndim() != 1) throw py::value_error("y: expected a vector");
+        Eigen::VectorXd out = Eigen::Map<const Eigen::VectorXd>(y.data(), y.size());
+        s.apply(t, out.data());
+        return out;
+      }, py::arg("y"), py::arg("t") = 0.0, "y with the stage applied (a copy; the per-tick Python loop)");
+  py::class_<Disturbance, std::shared_ptr<Disturbance>>(m, "Disturbance", "a per-tick wrench on a body (disturbance.hpp)");
+  py::class_<WindDrag, Disturbance, std::shared_ptr<WindDrag>>(m, "WindDrag", "wind drag at a body's subtree CoM (wind_drag.hpp)")
+      .def(py::init([](int body, int velocity_adr, const Eigen::Vector3d& steady, double ramp, double gust_sigma,
+                       double gust_tau, double vertical_scale, double drag_area, double air_density, double dt,
+                       unsigned long long seed) {
+             WindDragConfig c;
+             c.body = body;
+             c.velocity_adr = velocity_adr;
+             for (int i = 0; i < 3; ++i) c.steady[i] = steady[i];
+             c.ramp = ramp;
+             c.gust_sigma = gust_sigma;
+             c.gust_tau = gust_tau;
+             c.vertical_scale = vertical_scale;
+             c.drag_area = drag_area;
+             c.air_density = air_density;
+             c.dt = dt;
+             c.seed = seed;
+             return std::make_shared<WindDrag>(c);
+           }),
+           py::arg("body"), py::arg("velocity_adr"), py::arg("steady"), py::arg("ramp"), py::arg("gust_sigma"),
+           py::arg("gust_tau"), py::arg("vertical_scale"), py::arg("drag_area"), py::arg("air_density"),
+           py::arg("dt"), py::arg("seed"))
+      .def("check",
+           [](WindDrag& w, py::object model) {
+             LogBuffer scratch;
+             std::string why;
+             if (!w.configure(address_of<mjModel>(model, "model"), scratch, &why)) throw py::value_error(why);
+           },
+           py::arg("model"), "checks the settings against the model (the per-tick Python loop; a Rollout does it itself)")
+      .def("apply",
+           [](WindDrag& w, double t, py::object model, py::object data) {
+             w.apply(t, address_of<mjModel>(model, "model"), address_of<mjData>(data, "data"));
+           },
+           py::arg("t"), py::arg("model"), py::arg("data"),
+           "this tick's wind and drag, written into data.xfrc_applied of the body (the per-tick Python loop)")
+      .def_property_readonly("wind", [](const WindDrag& w) { return Eigen::Vector3d(w.wind()); })
+      .def_property_readonly("force", [](const WindDrag& w) { return Eigen::Vector3d(w.force()); });
+
   py::class_<PyRollout>(m, "Rollout", "one native closed-loop run on a MuJoCo model/data")
       .def(py::init([](py::object model, py::object data, py::object adapter, int ticks, double control_dt,
                        std::vector<int> measurement, std::vector<int> actuators, int delay_ticks,
                        std::vector<double> sigma, std::vector<double> quantum, unsigned long long seed,
                        int motor_delay_ticks, double motor_time_constant, std::vector<double> motor_limit,
-                       py::list events, py::list probes, std::optional<py::tuple> stop) {
+                       py::list events, py::list probes, std::optional<py::tuple> stop,
+                       std::vector<int> measurement_source, bool motor_hold_first,
+                       std::vector<std::shared_ptr<SensorStage>> stages,
+                       std::vector<std::shared_ptr<Disturbance>> disturbances, bool stop_nonfinite) {
              auto* pa = &adapter.cast<PyAdapter&>();
              RolloutConfig config;
              config.ticks = ticks;
@@ -167,11 +247,17 @@ void bind_native(py::module_& parent) {
              config.motor.delay_ticks = motor_delay_ticks;
              config.motor.time_constant = motor_time_constant;
              config.motor.limit = std::move(motor_limit);
+             config.motor.hold_first = motor_hold_first;
+             config.measurement_source = std::move(measurement_source);
+             config.sensor_stages = std::move(stages);
+             config.disturbances = std::move(disturbances);
+             config.stop_nonfinite = stop_nonfinite;
              for (auto item : events) {
                auto e = item.cast<py::tuple>();
                if (e.size() != 3) throw py::value_error("events: expected (time, kind, payload) tuples");
                const int kind = e[1].cast<int>();
-               if (kind < 0 || kind > 2) throw py::value_error("events: kind must be 0 (estop), 1 (reference) or 2 (force)");
+               if (kind < 0 || kind > 3)
+                 throw py::value_error("events: kind must be 0 (estop), 1 (reference), 2 (force) or 3 (gain)");
                config.events.push_back(Event{e[0].cast<double>(), static_cast<EventKind>(kind),
                                              e[2].cast<std::vector<double>>()});
              }
@@ -179,7 +265,7 @@ void bind_native(py::module_& parent) {
                auto p = item.cast<py::tuple>();
                if (p.size() != 3) throw py::value_error("probes: expected (name, source, index) tuples");
                const int source = p[1].cast<int>();
-               if (source < 0 || source > 8) throw py::value_error("probes: source must be 0..8");
+               if (source < 0 || source > 11) throw py::value_error("probes: source must be 0..11");
                config.probes.push_back(Probe{p[0].cast<std::string>(), static_cast<Probe::Source>(source),
                                              p[2].cast<std::vector<int>>()});
              }
@@ -205,7 +291,11 @@ void bind_native(py::module_& parent) {
            py::arg("quantum") = std::vector<double>{}, py::arg("seed") = 0ULL,
            py::arg("motor_delay_ticks") = 0, py::arg("motor_time_constant") = 0.0,
            py::arg("motor_limit") = std::vector<double>{}, py::arg("events") = py::list(),
-           py::arg("probes") = py::list(), py::arg("stop") = py::none())
+           py::arg("probes") = py::list(), py::arg("stop") = py::none(),
+           py::arg("measurement_source") = std::vector<int>{}, py::arg("motor_hold_first") = false,
+           py::arg("stages") = std::vector<std::shared_ptr<SensorStage>>{},
+           py::arg("disturbances") = std::vector<std::shared_ptr<Disturbance>>{},
+           py::arg("stop_nonfinite") = false)
       .def("run",
            [](PyRollout& r) {
              py::gil_scoped_release no_gil;
@@ -219,6 +309,7 @@ void bind_native(py::module_& parent) {
            },
            py::arg("n"), "runs up to n more ticks (GIL released)")
       .def_property_readonly("stopped", [](const PyRollout& r) { return r.rollout.result().stopped; })
+      .def_property_readonly("diverged", [](const PyRollout& r) { return r.rollout.result().diverged; })
       .def_property_readonly("finished", [](const PyRollout& r) { return r.rollout.finished(); })
       .def("last",
            [](const PyRollout& r, const std::string& name) {
@@ -313,15 +404,16 @@ void bind_native(py::module_& parent) {
         return y;
       });
   py::class_<MotorModel>(m, "MotorModel", "command transport delay [ticks] + first-order lag")
-      .def(py::init([](int delay_ticks, double time_constant, double dt, int n, std::vector<double> limit) {
+      .def(py::init([](int delay_ticks, double time_constant, double dt, int n, std::vector<double> limit,
+                       bool hold_first) {
              MotorModel s;
              std::string why;
-             if (!s.configure(MotorModelConfig{delay_ticks, time_constant, dt, std::move(limit)}, n, &why))
+             if (!s.configure(MotorModelConfig{delay_ticks, time_constant, dt, std::move(limit), hold_first}, n, &why))
                throw py::value_error(why);
              return s;
            }),
            py::arg("delay_ticks"), py::arg("time_constant"), py::arg("dt"), py::arg("n"),
-           py::arg("limit") = std::vector<double>{})
+           py::arg("limit") = std::vector<double>{}, py::arg("hold_first") = false)
       .def("push", [](MotorModel& s, const Array& u) {
         vector_arg(u, s.size(), "u");
         Eigen::VectorXd y(u.size());

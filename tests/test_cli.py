@@ -52,4 +52,9 @@ def test_bench_quick_reports_zero_allocations():
         for key in ("tick_over_mj_step", "real_time_factor", "real_time_factor_all_cores"):
             assert quad[key] > 0, key
         assert quad["env"]["steps_per_second"] > 0 and quad["env_vector"]["num_envs"] == 8
+        aerial = report["sil_native"]["aerial"]
+        for key in ("tick_over_mj_step", "real_time_factor", "real_time_factor_all_cores",
+                    "python_tick_over_mj_step", "python_real_time_factor"):
+            assert aerial[key] > 0, key
+        assert aerial["scenario"] == "aerial-hover"
     assert report["qp"], "the QP comparison ran"

@@ -54,7 +54,9 @@ def test_batch_entry_points_on_kl_sil():
 def test_sweep_uses_threads_for_native_scenarios():
     assert batch.native_capable("arm-track")
     assert not batch.native_capable("arm-track", sets=["native=false"])
-    assert not batch.native_capable("aerial-hover")
+    assert batch.native_capable("aerial-hover")  # native since the aerial adapter
+    assert not batch.native_capable("aerial-hover", grid={"native": ["true", "false"]})
+    assert not batch.native_capable("arm-press")  # reads the force sensor per tick in Python
     results = batch.run_scenarios("arm-track", [{"params": {"damping": "0"}, "duration": 0.2},
                                                 {"params": {"damping": "bad"}, "duration": 0.2}],
                                   threads=2)

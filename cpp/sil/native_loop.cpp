@@ -24,6 +24,9 @@ int probe_width(const mjModel* m, const Probe& p, std::vector<int>* shape, std::
     case S::kSiteMat: *shape = {3, 3}; if (p.index.size() == 1 && in_range(m->nsite)) return 9; break;
     case S::kBodyPos: *shape = {3}; if (p.index.size() == 1 && in_range(m->nbody)) return 3; break;
     case S::kBodyQuat: *shape = {4}; if (p.index.size() == 1 && in_range(m->nbody)) return 4; break;
+    case S::kBodyMat: *shape = {3, 3}; if (p.index.size() == 1 && in_range(m->nbody)) return 9; break;
+    case S::kSubtreeCom: *shape = {3}; if (p.index.size() == 1 && in_range(m->nbody)) return 3; break;
+    case S::kActuatorForce: *shape = {static_cast<int>(p.index.size())}; if (in_range(m->nu)) return shape->at(0); break;
     case S::kBodiesPos:
     case S::kContactForce:
       *shape = {static_cast<int>(p.index.size()), 3};
@@ -62,8 +65,19 @@ bool Rollout::configure(const mjModel* model, mjData* data, std::shared_ptr<Adap
            std::to_string(adapter->measurement_size()) + ", " + std::to_string(adapter->command_size()) + ")";
     return false;
   }
-  for (int a : config.measurement)
-    if (a < 0 || a >= model->nsensordata) { *why = "rollout: measurement address out of range"; return false; }
+  if (!config.measurement_source.empty() && config.measurement_source.size() != config.measurement.size()) {
+    *why = "rollout: measurement_source: expected one entry per measurement address";
+    return false;
+  }
+  std::vector<const double*> y_src;
+  for (size_t i = 0; i < config.measurement.size(); ++i) {
+    const int a = config.measurement[i];
+    const int source = config.measurement_source.empty() ? 0 : config.measurement_source[i];
+    const int size = source == 0 ? model->nsensordata : source == 1 ? model->nq : source == 2 ? model->nv : -1;
+    if (size < 0) { *why = "rollout: measurement_source: expected 0 (sensordata), 1 (qpos) or 2 (qvel)"; return false; }
+    if (a < 0 || a >= size) { *why = "rollout: measurement address out of range"; return false; }
+    y_src.push_back((source == 0 ? data->sensordata : source == 1 ? data->qpos : data->qvel) + a);
+  }
   for (int a : config.actuators)
     if (a < 0 || a >= model->nu) { *why = "rollout: actuator index out of range"; return false; }
   const int ny = adapter->measurement_size(), nu = adapter->command_size();
@@ -80,13 +94,24 @@ bool Rollout::configure(const mjModel* model, mjData* data, std::shared_ptr<Adap
   for (const auto& e : config.events) {
     if (!std::isfinite(e.time)) { *why = "event: non-finite time"; return false; }
     if (e.kind == EventKind::kForce) {
-      const int body = e.payload.size() == 8 ? static_cast<int>(e.payload[0]) : -1;
+      const int body = e.payload.size() == 8 || e.payload.size() == 9 ? static_cast<int>(e.payload[0]) : -1;
       if (body < 1 || body >= model->nbody || !(e.payload[7] >= 0.0)) {
-        *why = "force event: expected {body id (1..nbody-1), fx, fy, fz, tx, ty, tz, duration >= 0}";
+        *why = "force event: expected {body id (1..nbody-1), fx, fy, fz, tx, ty, tz, duration >= 0[, at subtree CoM]}";
         return false;
       }
       if (std::find(force_bodies_.begin(), force_bodies_.end(), body) == force_bodies_.end())
         force_bodies_.push_back(body);
+    }
+    if (e.kind == EventKind::kForce && e.payload.size() == 9 && e.payload[8] != 0.0 && e.payload[8] != 1.0) {
+      *why = "force event: the 9th entry is 0 (at the body's CoM) or 1 (at its subtree CoM)";
+      return false;
+    }
+    if (e.kind == EventKind::kGain) {
+      const int act = e.payload.size() == 2 ? static_cast<int>(e.payload[0]) : -1;
+      if (act < 0 || act >= model->nu || !std::isfinite(e.payload[1])) {
+        *why = "gain event: expected {actuator id (0..nu-1), finite gain}";
+        return false;
+      }
     }
   }
   // Events in time order; ties keep their given order.
@@ -114,6 +139,12 @@ bool Rollout::configure(const mjModel* model, mjData* data, std::shared_ptr<Adap
     *why = "rollout: stop probe out of range";
     return false;
   }
+  for (const auto& dist : config.disturbances) {
+    if (!dist) { *why = "rollout: null disturbance"; return false; }
+    if (!dist->configure(model, log_, why)) return false;
+    if (std::find(force_bodies_.begin(), force_bodies_.end(), dist->body()) == force_bodies_.end())
+      force_bodies_.push_back(dist->body());
+  }
   adapter->declare(log_);
   log_.allocate(config.ticks);
 
@@ -122,6 +153,8 @@ bool Rollout::configure(const mjModel* model, mjData* data, std::shared_ptr<Adap
   adapter_ = std::move(adapter);
   config_ = std::move(config);
   substeps_ = static_cast<int>(n);
+  y_src_ = std::move(y_src);
+  wrenches_.assign(6 * config_.disturbances.size(), 0.0);
   y_raw_.assign(ny, 0.0);
   y_.assign(ny, 0.0);
   u_.assign(nu, 0.0);
@@ -139,6 +172,8 @@ void Rollout::fire_events(double t) noexcept {
     const Event& e = config_.events[next_event_];
     if (e.kind == EventKind::kForce)  // whole physics steps, half up (FloatingBasePlant.apply_push)
       push_steps_[next_event_] = static_cast<int>(std::floor(e.payload[7] / m_->opt.timestep + 0.5 + 1e-9));
+    else if (e.kind == EventKind::kGain)  // the caller's model: writable (a Python MjModel)
+      const_cast<mjModel*>(m_)->actuator_gainprm[mjNGAIN * static_cast<int>(e.payload[0])] = e.payload[1];
     else
       adapter_->on_event(e);
     ++next_event_;
@@ -151,9 +186,19 @@ void Rollout::physics_step(bool last) noexcept {
     for (size_t i = 0; i < next_event_; ++i) {
       if (push_steps_[i] <= 0) continue;
       const Event& e = config_.events[i];
-      double* f = d_->xfrc_applied + 6 * static_cast<int>(e.payload[0]);
+      const int b = static_cast<int>(e.payload[0]);
+      double* f = d_->xfrc_applied + 6 * b;
       for (int j = 0; j < 6; ++j) f[j] += e.payload[1 + j];
+      if (e.payload.size() == 9 && e.payload[8] == 1.0) {  // at the subtree CoM
+        double torque[3];
+        torque_at(d_->subtree_com + 3 * b, d_->xipos + 3 * b, &e.payload[1], torque);
+        for (int j = 0; j < 3; ++j) f[3 + j] += torque[j];
+      }
       --push_steps_[i];
+    }
+    for (size_t i = 0; i < config_.disturbances.size(); ++i) {
+      double* f = d_->xfrc_applied + 6 * config_.disturbances[i]->body();
+      for (int j = 0; j < 6; ++j) f[j] += wrenches_[6 * i + j];
     }
   }
   const MujocoApi& mj = mujoco_api();
@@ -166,7 +211,13 @@ void Rollout::physics_step(bool last) noexcept {
   mj.step1(m_, d_);
 }
 
-bool Rollout::stop_due(int k) const noexcept {
+bool Rollout::stop_due(int k) noexcept {
+  if (config_.stop_nonfinite)
+    for (int i = 0; i < m_->nq; ++i)
+      if (!std::isfinite(d_->qpos[i])) {
+        result_.diverged = true;
+        return true;
+      }
   if (config_.stop_probe < 0) return false;
   return log_.channels()[ch_probe_[config_.stop_probe]].data[static_cast<size_t>(k) *
              log_.channels()[ch_probe_[config_.stop_probe]].width + config_.stop_element] < config_.stop_below;
@@ -175,7 +226,7 @@ bool Rollout::stop_due(int k) const noexcept {
 void Rollout::tick(int k) {
   const double t = k * config_.control_dt;  // as sil/loop.py: no accumulated sum
   const int ny = static_cast<int>(y_raw_.size()), nu = static_cast<int>(u_.size());
-  for (int i = 0; i < ny; ++i) y_raw_[i] = d_->sensordata[config_.measurement[i]];
+  for (int i = 0; i < ny; ++i) y_raw_[i] = *y_src_[i];
   sensor_.apply(y_raw_.data(), y_.data());
   for (const auto& stage : config_.sensor_stages) stage->apply(t, y_.data());
   double stamp = t;
@@ -196,6 +247,9 @@ void Rollout::tick(int k) {
       case S::kSiteMat: std::copy(d_->site_xmat + 9 * i0, d_->site_xmat + 9 * i0 + 9, row); break;
       case S::kBodyPos: std::copy(d_->xpos + 3 * i0, d_->xpos + 3 * i0 + 3, row); break;
       case S::kBodyQuat: std::copy(d_->xquat + 4 * i0, d_->xquat + 4 * i0 + 4, row); break;
+      case S::kBodyMat: std::copy(d_->xmat + 9 * i0, d_->xmat + 9 * i0 + 9, row); break;
+      case S::kSubtreeCom: std::copy(d_->subtree_com + 3 * i0, d_->subtree_com + 3 * i0 + 3, row); break;
+      case S::kActuatorForce: for (size_t j = 0; j < probe.index.size(); ++j) row[j] = d_->actuator_force[probe.index[j]]; break;
       case S::kBodiesPos:
         for (size_t j = 0; j < probe.index.size(); ++j)
           std::copy(d_->xpos + 3 * probe.index[j], d_->xpos + 3 * probe.index[j] + 3, row + 3 * j);
@@ -207,6 +261,8 @@ void Rollout::tick(int k) {
   }
 
   fire_events(t);
+  for (size_t i = 0; i < config_.disturbances.size(); ++i)
+    config_.disturbances[i]->update(t, m_, d_, wrenches_.data() + 6 * i, log_, k);
   adapter_->step(t, stamp, y, u_.data(), log_, k);
   motor_.push(u_.data(), u_applied_.data());
   for (int i = 0; i < nu; ++i) d_->ctrl[config_.actuators[i]] = u_applied_[i];

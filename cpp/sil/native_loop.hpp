@@ -1,16 +1,19 @@
 #pragma once
 // The native SIL loop: the 1 kHz closed loop of sil/loop.py in C++, on the mjModel/mjData the
 // Python plant built. Per tick k (t = k * control_dt), in the Python loop's order:
-//   y_raw = sensordata[measurement]          plant signals (MuJoCo sensors, current state)
+//   y_raw = sensordata[measurement]          plant signals (MuJoCo sensors, current state; or
+//                                            qpos / qvel entries: a motion-capture stand-in)
 //   y     = SensorModel(y_raw)               noise, quantization (seeded)
 //   stamp, y = MeasurementDelay(t, y)        whole ticks
 //   log t and the ground-truth probes        (what a scenario's observe() records)
 //   fire the events due (t >= time)
+//   disturbances: this tick's wrench per body (wind drag, ...) from the current state
 //   u     = adapter.step(t, stamp, y)        compiled controller
 //   ctrl[actuators] = MotorModel(u)          transport delay, first-order lag
 //   substeps x (xfrc_applied of the pushed bodies; mj_step2; [contact forces on the last]; mj_step1)
 //                                            so sensors describe the new state (sil/plant.py)
-//   stop after this tick if the stop probe fell below its bound (a fall ends a trot run)
+//   stop after this tick if the stop probe fell below its bound (a fall ends a trot run), or
+//   (stop_nonfinite) if the physics left a non-finite qpos (a diverged flight)
 // Deterministic: no clock, no shared state, a seeded RNG; the same inputs give the same log on
 // any thread. Allocation only in configure.
 #include <memory>
@@ -22,6 +25,7 @@
 #include "sil/adapter.hpp"
 #include "sil/events.hpp"
 #include "sil/contact_forces.hpp"
+#include "sil/disturbance.hpp"
 #include "sil/log_buffer.hpp"
 #include "sil/sensor_stage.hpp"
 #include "sil/signal_models.hpp"
@@ -31,9 +35,13 @@ namespace kiloloop::sil {
 // A ground-truth signal logged every tick (never seen by the controller). kBodiesPos and
 // kContactForce take several body ids and log (bodies x 3): their origins [m], and the contact
 // force on each during the last physics step [N] (world; sil/contact_forces.hpp).
+// kSubtreeCom: {body id}, the centre of mass of the body and its descendants [m] (world);
+// kActuatorForce: actuator ids, their force (gain x activation for a rotor) [N]; kBodyMat:
+// {body id}, its rotation (3 x 3, world <- body).
 struct Probe {
   enum class Source : int { kSensor = 0, kSitePos = 1, kSiteMat = 2, kBodyPos = 3, kBodyQuat = 4,
-                            kQpos = 5, kQvel = 6, kBodiesPos = 7, kContactForce = 8 };
+                            kQpos = 5, kQvel = 6, kBodiesPos = 7, kContactForce = 8,
+                            kSubtreeCom = 9, kActuatorForce = 10, kBodyMat = 11 };
   std::string name;
   Source source = Source::kSensor;
   std::vector<int> index;  // sensordata / qpos / qvel addresses, or {site id} / {body id}
@@ -43,6 +51,9 @@ struct RolloutConfig {
   double control_dt = 0.001;          // [s] controller period
   int ticks = 0;                      // control ticks to run
   std::vector<int> measurement;       // sensordata addresses forming y_raw (adapter's layout)
+  // Per element of measurement, where its address points: 0 sensordata, 1 qpos, 2 qvel (the
+  // ground truth a motion-capture system stands in for). Empty: all sensordata.
+  std::vector<int> measurement_source;
   std::vector<int> actuators;         // ctrl indices written from u (adapter's layout)
   int delay_ticks = 0;                // measurement delay [ticks]
   SensorModelConfig sensor;
@@ -50,19 +61,24 @@ struct RolloutConfig {
   std::vector<std::shared_ptr<SensorStage>> sensor_stages;
   MotorModelConfig motor;
   std::vector<Event> events;
+  // Once per tick after the events (each rollout owns its own).
+  std::vector<std::shared_ptr<Disturbance>> disturbances;
   std::vector<Probe> probes;
   // Early stop: the run ends after the first tick whose probes[stop_probe][stop_element] is
   // below stop_below (-1: never).
   int stop_probe = -1;
   int stop_element = 0;
   double stop_below = 0.0;
+  // The run ends after a tick whose physics left a non-finite qpos (RolloutResult::diverged).
+  bool stop_nonfinite = false;
 };
 
 struct RolloutResult {
   int ticks = 0;            // ticks completed
   int warnings = 0;         // MuJoCo warnings raised during the run (instability, ...)
   bool ok = false;          // no error so far (a stopped or unfinished run may be ok)
-  bool stopped = false;     // the stop probe ended the run early
+  bool stopped = false;     // the stop probe (or a divergence) ended the run early
+  bool diverged = false;    // stop_nonfinite: the physics state became non-finite
   std::string error;        // why the run stopped early (empty when ok)
 };
 
@@ -88,7 +104,7 @@ class Rollout {
   void tick(int k);
   void fire_events(double t) noexcept;
   void physics_step(bool last) noexcept;
-  bool stop_due(int k) const noexcept;
+  bool stop_due(int k) noexcept;
 
   const mjModel* m_ = nullptr;
   mjData* d_ = nullptr;
@@ -99,7 +115,9 @@ class Rollout {
   MeasurementDelay delay_;
   MotorModel motor_;
   std::vector<double> y_raw_, y_, u_, u_applied_;
-  std::vector<int> force_bodies_;  // bodies whose xfrc_applied the force events own
+  std::vector<const double*> y_src_;  // per element of y_raw: where in the data it is read
+  std::vector<int> force_bodies_;  // bodies whose xfrc_applied the force events and disturbances own
+  std::vector<double> wrenches_;   // (disturbances x 6) this tick's
   std::vector<int> push_steps_;    // per event: physics steps its force still acts (0: none)
   size_t next_event_ = 0;
   int k_ = 0;                      // next tick

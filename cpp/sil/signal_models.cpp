@@ -87,6 +87,8 @@ bool MotorModel::configure(const MotorModelConfig& config, int n, std::string* w
   n_ = n;
   ticks_ = config.delay_ticks;
   head_ = 0;
+  hold_first_ = config.hold_first;
+  primed_ = false;
   alpha_ = config.dt / (config.time_constant + config.dt);
   fifo_.assign(static_cast<size_t>(ticks_) * n, 0.0);
   state_.assign(n, 0.0);
@@ -94,6 +96,9 @@ bool MotorModel::configure(const MotorModelConfig& config, int n, std::string* w
 }
 
 void MotorModel::push(const double* u, double* y) noexcept {
+  if (hold_first_ && !primed_)  // the queue starts full of the first command (nonideal.MotorDelay "first")
+    for (int d = 0; d < ticks_; ++d) std::copy(u, u + n_, fifo_.begin() + static_cast<long>(d) * n_);
+  primed_ = true;
   for (int i = 0; i < n_; ++i) {
     double arriving = u[i];
     if (ticks_ > 0) {

@@ -52,6 +52,9 @@ struct MotorModelConfig {
   double time_constant = 0.0;   // [s] first-order lag of the produced torque (0: none)
   double dt = 0.001;            // [s] control period
   std::vector<double> limit;    // (n) |output| bound per element after the lag (saturation); empty: none
+  // Before the first command has travelled through: false, zeros (a drive with no command
+  // outputs nothing); true, the first command (no start-up sag: a hovering vehicle's rotors).
+  bool hold_first = false;
 };
 
 class MotorModel {
@@ -66,6 +69,7 @@ class MotorModel {
 
  private:
   int n_ = 0, ticks_ = 0, head_ = 0;
+  bool hold_first_ = false, primed_ = false;
   double alpha_ = 1.0;
   std::vector<double> fifo_, state_, limit_;
 };

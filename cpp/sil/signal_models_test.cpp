@@ -86,6 +86,25 @@ TEST(NativeMotorModel, SaturatesAfterTheDelayAtEachElementsLimit) {
   EXPECT_FALSE(m.configure(MotorModelConfig{0, 0.0, 0.001, {-1.0, 1.0}}, 2, &why));
 }
 
+TEST(NativeMotorModel, HoldFirstFillsTheDelayWithTheFirstCommand) {
+  // nonideal.MotorDelay(initial="first"): a hovering vehicle's rotors get the first command at
+  // once, then each command `delay` ticks late; reconfiguring starts over.
+  MotorModel m;
+  std::string why;
+  MotorModelConfig config{2, 0.0, 0.001, {}, true};
+  ASSERT_TRUE(m.configure(config, 1, &why)) << why;
+  const double u[] = {3.0, 4.0, 5.0, 6.0};
+  const double expected[] = {3.0, 3.0, 3.0, 4.0};
+  double y = 0.0;
+  for (int k = 0; k < 4; ++k) {
+    m.push(&u[k], &y);
+    EXPECT_EQ(y, expected[k]) << k;
+  }
+  ASSERT_TRUE(m.configure(config, 1, &why)) << why;
+  m.push(&u[3], &y);
+  EXPECT_EQ(y, 6.0);
+}
+
 TEST(NativeSignalModels, NoAllocationPerCall) {
   SensorModel s;
   MotorModel m;

@@ -25,7 +25,8 @@ def sil_aerial(quick: bool) -> dict:
     from . import rig_sil_timing
 
     rig = rig_from_settings(parse_settings(aerial_hover.DEFAULTS, None), seed=0)
-    return rig_sil_timing("aerial-hover", rig, aerial_hover.hold(rig), quick)
+    # The per-tick Python loop (the native one: sil_native.aerial).
+    return rig_sil_timing("aerial-hover", rig, aerial_hover.hold(rig), quick, native=False)
 
 
 def run_aerial_bench(quick: bool) -> dict:

@@ -2,8 +2,8 @@
 against one raw `mj_step` of the same model (both called from C++), the real-time factor on one
 core and on all cores (a batch on one thread per core), the batch speed-up of 2 threads over 1,
 and the per-tick Python loop's figures beside them (the quadruped row: native_quadruped_bench.py,
-with the gym environment's steps per second). The aerial family has no native adapter yet and
-reports null.
+with the gym environment's steps per second; the aerial row: native_aerial_bench.py). A family
+reports null when the bench runs on another robot file (`--robot`: the arm row only).
 
 Timing is taken around whole C++ calls (the loop itself reads no clock). Costs per tick and per
 mj_step are CPU time of the calling thread (`time.thread_time`: the loop and the raw steps run on
@@ -182,11 +182,12 @@ def run_native_bench(quick: bool, robot=None) -> dict:
 
     if not native.available():
         return {"available": False, "arm": None, "quadruped": None, "aerial": None}
+    from .native_aerial_bench import aerial_native
     from .native_quadruped_bench import quadruped_native
 
-    # aerial: no native adapter yet (issue 13).
     return {"available": True, "arm": arm_native(quick, robot),
-            "quadruped": quadruped_native(quick) if robot is None else None, "aerial": None}
+            "quadruped": quadruped_native(quick) if robot is None else None,
+            "aerial": aerial_native(quick) if robot is None else None}
 
 
 def print_native_bench(r: dict) -> None:

@@ -1,8 +1,8 @@
 """Per robot family: the compiled controller its firmware runs, the SIL scenario that exercises it
-for a back-to-back check, and the settings that scenario needs for it (the arm's and the
-quadruped's per-tick Python loop: the native loop hands the controller to C++, where no Python
-wrapper can log its steps; both loops give the same log, tests/test_native_arm.py,
-tests/test_native_quadruped.py)."""
+for a back-to-back check, and the settings that scenario needs for it (every family's per-tick
+Python loop: the native loop hands the controller to C++, where no Python wrapper can log its
+steps; both loops give the same log, tests/test_native_arm.py, tests/test_native_quadruped.py,
+tests/test_native_aerial.py)."""
 from __future__ import annotations
 
 from dataclasses import dataclass, field
@@ -26,7 +26,7 @@ FAMILIES = {
                         "kiloloop/quadruped/quadruped_controller.hpp", "quadruped-stand",
                         {"native": False}),
     "aerial": Family("aerial", "AerialController", "AerialInput", "AerialOutput",
-                     "kiloloop/aerial/aerial_controller.hpp", "aerial-hover"),
+                     "kiloloop/aerial/aerial_controller.hpp", "aerial-hover", {"native": False}),
 }
 
 

@@ -23,8 +23,9 @@ import numpy as np
 
 import kiloloop as kl
 
-from ..sil.aerial_rig import (AERIAL_PLOT, COMMON_DEFAULTS, add_derived, diverged,
-                              rig_from_settings, rotation_vector_error)
+from ..sil.aerial_rig import (AERIAL_PLOT, COMMON_DEFAULTS, CONTROL_DT, REFERENCE_WIDTH,
+                              add_derived, diverged, reference_row, rig_from_settings,
+                              rotation_vector_error)
 from . import ScenarioResult, evaluate
 
 NAME = "aerial-arm-sweep"
@@ -99,6 +100,19 @@ def _one(settings, feedforward, seed, duration, robot):
         inp.position_ref[:] = hover
         traj.sample_into(t, inp.q_ref, inp.qd_ref, inp.qdd_ref)
 
+    def table(controller, ticks):
+        """The same references as data: the hover row, the trajectory sampled into its arm columns."""
+        inp = controller.make_input()
+        command(0.0, inp)
+        rows = np.tile(reference_row(inp, controller.nq), (ticks, 1))
+        nq, arm = controller.nq, REFERENCE_WIDTH
+        for k in range(ticks):
+            row = rows[k]
+            traj.sample_into(k * CONTROL_DT, row[arm:arm + nq], row[arm + nq:arm + 2 * nq],
+                             row[arm + 2 * nq:])
+        return rows
+
+    command.table = table
     log = rig.run(duration, command)
     add_derived(log)
     level = np.tile([1.0, 0.0, 0.0, 0.0], (len(log["t"]), 1))

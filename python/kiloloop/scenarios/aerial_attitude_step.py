@@ -7,8 +7,8 @@ import numpy as np
 
 import kiloloop as kl
 
-from ..sil.aerial_rig import (AERIAL_PLOT, COMMON_DEFAULTS, LAWS, add_derived, diverged,
-                              rig_from_settings)
+from ..sil.aerial_rig import (AERIAL_PLOT, COMMON_DEFAULTS, CONTROL_DT, LAWS, add_derived,
+                              diverged, reference_row, rig_from_settings)
 from . import ScenarioResult, evaluate
 
 NAME = "aerial-attitude-step"
@@ -49,6 +49,17 @@ def _one(settings, law, seed, duration, robot):
         inp.quat_ref[:] = q_step if t >= t_step else (1.0, 0.0, 0.0, 0.0)
         inp.q_ref[:] = q0
 
+    def table(controller, ticks):
+        """The same references as data: the level row before the step, the stepped one after."""
+        inp = controller.make_input()
+        command(0.0, inp)
+        before = reference_row(inp, controller.nq)
+        command(t_step, inp)
+        after = reference_row(inp, controller.nq)
+        t = np.arange(ticks) * CONTROL_DT  # k * dt, as the loops count time
+        return np.where((t >= t_step)[:, None], after, before)
+
+    command.table = table
     log = rig.run(duration, command)
     add_derived(log)
     t, roll = log["t"], roll_of(log["base_quat"])

@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..sil.aerial_rig import (AERIAL_PLOT, COMMON_DEFAULTS, add_derived, diverged, hold,
+from ..sil.aerial_rig import (AERIAL_PLOT, COMMON_DEFAULTS, Push, add_derived, diverged, hold,
                               rig_from_settings)
 from . import ScenarioResult, evaluate
 
@@ -29,14 +29,14 @@ def run(settings: dict, seed: int = 0, duration: float | None = None,
     t0, dur = float(settings["push_time"]), float(settings["push_duration"])
     force = rig.plant.total_mass * float(settings["delta_v"]) / dur * direction  # [N]
 
-    def push(t, plant, log):
-        on = t0 <= t < t0 + dur - 1e-12
-        plant.apply_force(force if on else np.zeros(3), plant.com())
-        log.record("push_force", force if on else np.zeros(3))
-
-    log = rig.run(DURATION if duration is None else duration, hold(rig), disturbance=push)
+    # An event: the force at the vehicle's CoM for whole physics steps (both loops).
+    log = rig.run(DURATION if duration is None else duration, hold(rig),
+                  events=[(t0, Push(force, dur))])
     add_derived(log)
     t = log["t"]
+    steps = int(np.floor(dur / rig.plant.timestep + 0.5 + 1e-9))
+    on = (t >= t0) & (t < t0 + steps * rig.plant.timestep - 1e-12)
+    log.put("push_force", np.where(on[:, None], force, 0.0))
     err = np.linalg.norm(log["base_pos"] - log["pos_ref"], axis=1)
     after = t >= t0
     outside = np.nonzero(after & (err >= settings["recovered_within"]))[0]

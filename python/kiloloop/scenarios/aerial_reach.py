@@ -9,7 +9,8 @@ import numpy as np
 
 import kiloloop as kl
 
-from ..sil.aerial_rig import AERIAL_PLOT, COMMON_DEFAULTS, add_derived, diverged, rig_from_settings
+from ..sil.aerial_rig import (AERIAL_PLOT, COMMON_DEFAULTS, CONTROL_DT, add_derived, diverged,
+                              reference_row, rig_from_settings)
 from . import ScenarioResult, evaluate
 
 NAME = "aerial-reach"
@@ -85,6 +86,19 @@ def run(settings: dict, seed: int = 0, duration: float | None = None,
         inp.ee_position_ref[:] = p
         inp.ee_velocity_ref[:] = v
 
+    def table(controller, ticks):
+        """The same references as data: the line sampled on the tick grid at once."""
+        inp = controller.make_input()
+        command(0.0, inp)
+        rows = np.tile(reference_row(inp, controller.nq), (ticks, 1))
+        t = np.arange(ticks) * CONTROL_DT
+        s, ds, _ = _quintic((t - line.t0) / line.T)
+        d = line.p1 - line.p0
+        rows[:, 16:19] = line.p0 + s[:, None] * d      # ee_position_ref (AerialAdapter::Ref)
+        rows[:, 19:22] = (ds / line.T)[:, None] * d    # ee_velocity_ref
+        return rows
+
+    command.table = table
     log = rig.run(DURATION if duration is None else duration, command)
     add_derived(log)
     ref = np.array([line.sample(t)[0] for t in log["t"]])

@@ -5,8 +5,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..sil.aerial_rig import (AERIAL_PLOT, COMMON_DEFAULTS, add_derived, diverged, hold,
-                              rig_from_settings)
+from ..sil.aerial_rig import (AERIAL_PLOT, COMMON_DEFAULTS, RotorFault, add_derived, diverged,
+                              hold, rig_from_settings)
 from . import ScenarioResult, evaluate
 
 NAME = "aerial-rotor-fault"
@@ -22,7 +22,7 @@ def run(settings: dict, seed: int = 0, duration: float | None = None,
     k, eff = int(settings["rotor"]), float(settings["efficiency"])
     if not 0 <= k < rig.n_rotors:
         raise ValueError(f"rotor: expected 0..{rig.n_rotors - 1}, got {k}")
-    events = [(settings["fault_time"], lambda plant: plant.set_efficiency(k, eff))]
+    events = [(settings["fault_time"], RotorFault(k, eff))]
     log = rig.run(DURATION if duration is None else duration, hold(rig), events=events)
     add_derived(log)
     dev = np.linalg.norm(log["base_pos"] - log["pos_ref"], axis=1)

@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..sil import aerial_rig
 from ..sil.aerial_rig import (AERIAL_PLOT, COMMON_DEFAULTS, add_derived, diverged, hold,
                               hold_errors, rig_from_settings)
 from . import ScenarioResult, evaluate
@@ -38,31 +39,19 @@ def derive(robot) -> dict:
     return {"drag_area": DRAG_SHAPE * span * span}
 
 
-class Wind:
-    """Steady wind plus seeded first-order gusts, and the drag it puts on the plant's body."""
-
-    def __init__(self, settings, seed, dt=0.001):
-        h = np.radians(settings["wind_heading_deg"])
-        self.steady = settings["wind_speed"] * np.array([np.cos(h), np.sin(h), 0.0])
-        self.ramp = max(float(settings["ramp"]), 1e-9)
-        self.tau, self.sigma = float(settings["gust_tau"]), float(settings["gust_sigma"])
-        self.cda = float(settings["drag_area"])
-        self.dt = dt
-        self.gust = np.zeros(3)
-        self.rng = np.random.default_rng(None if seed is None else seed + 7_000_001)
-
-    def __call__(self, t, plant, log):
-        # Exact discretization of d/dt g = -g / tau + sigma sqrt(2 / tau) white noise.
-        a = np.exp(-self.dt / self.tau)
-        self.gust = a * self.gust + self.sigma * np.sqrt(1 - a * a) * self.rng.standard_normal(3)
-        self.gust[2] *= 0.5  # vertical gusts are weaker near the ground
-        w = min(t / self.ramp, 1.0) * self.steady + self.gust
-        v = plant.base_velocity()[0]
-        rel = w - v
-        force = 0.5 * AIR_DENSITY * self.cda * np.linalg.norm(rel) * rel
-        plant.apply_force(force, plant.com())
-        log.record("wind", w)
-        log.record("wind_force", force)
+def Wind(settings, seed) -> aerial_rig.Wind:
+    """Steady wind plus seeded first-order gusts and the drag it puts on the vehicle, as data: the
+    model itself is C++ (cpp/sil/wind_drag.hpp: exact discretization of d/dt g = -g / tau +
+    sigma sqrt(2 / tau) white noise per axis, vertical gusts halved, drag at the vehicle's CoM),
+    the same in both loops."""
+    h = np.radians(settings["wind_heading_deg"])
+    return aerial_rig.Wind(steady=settings["wind_speed"] * np.array([np.cos(h), np.sin(h), 0.0]),
+                           ramp=max(float(settings["ramp"]), 1e-9),
+                           gust_sigma=float(settings["gust_sigma"]),
+                           gust_tau=float(settings["gust_tau"]),
+                           drag_area=float(settings["drag_area"]),
+                           seed=(0 if seed is None else int(seed)) + 7_000_001,
+                           vertical_scale=0.5, air_density=AIR_DENSITY)
 
 
 def run(settings: dict, seed: int = 0, duration: float | None = None,

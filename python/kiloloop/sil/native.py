@@ -37,10 +37,10 @@ cartesian_adapter = _native.cartesian_adapter if _native.available else None
 supervised_adapter = _native.supervised_adapter if _native.available else None
 
 # Event kinds (cpp/sil/events.hpp).
-ESTOP, REFERENCE, FORCE = 0, 1, 2
+ESTOP, REFERENCE, FORCE, GAIN = 0, 1, 2, 3
 # Probe sources (cpp/sil/native_loop.hpp).
 (_SENSOR, _SITE_POS, _SITE_MAT, _BODY_POS, _BODY_QUAT, _QPOS, _QVEL, _BODIES_POS,
- _CONTACT_FORCE) = range(9)
+ _CONTACT_FORCE, _SUBTREE_COM, _ACTUATOR_FORCE, _BODY_MAT) = range(12)
 
 
 def _load_mujoco() -> str:

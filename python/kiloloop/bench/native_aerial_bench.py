@@ -1,0 +1,155 @@
+"""The aerial row of the native SIL bench (native_bench.py): aerial-hover (non-idealities on) on
+the default aerial manipulator, its native tick against raw mj_step replaying the commands the
+rotors and arm motors received in that run (same start state, same motion), the adapter +
+controller alone, real-time factors on one core and on all cores, the 8-rollout batch on 1 and 2
+threads, and the per-tick Python loop beside it. Same conventions as the arm and quadruped rows:
+CPU time of the calling thread, least of REPEATS runs."""
+from __future__ import annotations
+
+import os
+import statistics
+import time
+
+import mujoco
+import numpy as np
+
+import kiloloop as kl
+
+from .native_bench import BATCH, REPEATS
+
+
+def _setup():
+    from ..scenarios import aerial_hover, parse_settings
+    from ..sil.aerial_rig import hold, reference_table, rig_from_settings
+
+    rig = rig_from_settings(parse_settings(aerial_hover.DEFAULTS, None), seed=0)
+    command = hold(rig)
+    return rig, command, reference_table
+
+
+def _rollouts(rig, command, table_fn, count: int, duration: float) -> list:
+    from ..sil import native
+
+    table = table_fn(rig.controller, command, native.ticks_of(duration))
+    out = []
+    for seed in range(count):
+        data = mujoco.MjData(rig.plant.model)
+        mujoco.mj_copyData(data, rig.plant.model, rig.plant.data)
+        adapter = rig.native_adapter(table, kl.AerialController(rig.model, rig.config))
+        out.append(rig.native_rollout(duration, command, data=data, adapter=adapter, seed=seed))
+    return out
+
+
+def _timed_batch(rig, command, table_fn, count, duration, threads, cpu: list | None = None) -> float:
+    from ..sil import batch
+
+    rollouts = _rollouts(rig, command, table_fn, count, duration)
+    cpu0, start = time.process_time(), time.perf_counter()
+    batch.run(rollouts, threads=threads)
+    wall = time.perf_counter() - start
+    if cpu is not None:
+        cpu.append(time.process_time() - cpu0)
+    assert all(r.ok for r in rollouts), [r.error for r in rollouts if not r.ok]
+    return wall
+
+
+def _applied_commands(rig, log: dict) -> np.ndarray:
+    """What reached the actuators in a native run: [thrust; tau (plant order)] through the
+    transport delay (the first command held until it arrives)."""
+    u = np.concatenate([log["thrust_cmd"], log["tau"][:, rig.to_plant]], axis=1)
+    d = rig.signals.motor_delay_ticks
+    applied = np.empty_like(u)
+    applied[d:] = u[:len(u) - d]
+    applied[:d] = u[0]
+    return np.ascontiguousarray(applied)
+
+
+def aerial_native(quick: bool) -> dict:
+    from ..sil import native
+
+    duration = 1.0 if quick else 4.0
+    rig, command, table_fn = _setup()
+    ticks = native.ticks_of(duration)
+    assert round(0.001 / rig.plant.timestep) == 1, "raw replay assumes one physics step per tick"
+    actuators = [int(a) for a in rig.plant._rotor_act] + [int(a) for a in rig.plant._act]
+    raw_cpu, raw_wall, tick_cpu, tick_wall = [], [], [], []
+    for _ in range(REPEATS):
+        r = _rollouts(rig, command, table_fn, 1, duration)[0]
+        c0, w0 = time.thread_time(), time.perf_counter()
+        r.run()
+        tick_cpu.append(time.thread_time() - c0)
+        tick_wall.append(time.perf_counter() - w0)
+        assert r.ok and r.ticks_run == ticks, r.error
+        ctrl = _applied_commands(rig, r.log())
+        data = mujoco.MjData(rig.plant.model)
+        mujoco.mj_copyData(data, rig.plant.model, rig.plant.data)
+        c0, w0 = time.thread_time(), time.perf_counter()
+        native._native.step_raw(rig.plant.model, data, ticks, ctrl, actuators)
+        raw_cpu.append(time.thread_time() - c0)
+        raw_wall.append(time.perf_counter() - w0)
+    raw, tick = min(raw_cpu) / ticks, min(tick_cpu) / ticks
+    # The adapter + controller alone on the start measurement (hovering, no physics).
+    addr, source = rig.measurement()
+    d = rig.plant.data
+    y = np.array([(d.sensordata, d.qpos, d.qvel)[s][a] for a, s in zip(addr, source)])
+    table = table_fn(rig.controller, command, ticks)
+    ctrl_cpu = []
+    for _ in range(REPEATS):
+        adapter = rig.native_adapter(table, kl.AerialController(rig.model, rig.config))
+        c0 = time.thread_time()
+        native._native.step_adapter(adapter, y, ticks)
+        ctrl_cpu.append(time.thread_time() - c0)
+    controller = min(ctrl_cpu) / ticks
+
+    cores = os.cpu_count() or 1
+    count = max(BATCH, 2 * cores)
+    all_cores = statistics.median(_timed_batch(rig, command, table_fn, count, duration, cores)
+                                  for _ in range(REPEATS))
+    cpu1: list = []
+    cpu2: list = []
+    t1 = statistics.median(_timed_batch(rig, command, table_fn, BATCH, duration, 1, cpu1)
+                           for _ in range(REPEATS))
+    load1 = os.getloadavg()[0]
+    t2 = statistics.median(_timed_batch(rig, command, table_fn, BATCH, duration, 2, cpu2)
+                           for _ in range(REPEATS))
+
+    py_duration = min(duration, 1.0)
+    py_ticks = native.ticks_of(py_duration)
+
+    def python_loop() -> tuple[float, float]:
+        rig.plant.reset()
+        c0, w0 = time.thread_time(), time.perf_counter()
+        rig.run(py_duration, command, native=False)
+        return time.thread_time() - c0, time.perf_counter() - w0
+
+    py_runs = [python_loop() for _ in range(REPEATS)]
+    rig.plant.reset()
+    py_tick = min(c for c, _ in py_runs) / py_ticks
+    return {
+        "scenario": "aerial-hover",
+        "robot": rig.robot.name,
+        "sim_seconds": duration,
+        "ticks": ticks,
+        "physics_dt": rig.plant.timestep,
+        "raw_mj_step_us": raw * 1e6,
+        "tick_us": tick * 1e6,
+        "tick_over_mj_step": tick / raw,
+        "controller_step_us": controller * 1e6,
+        "loop_glue_us": (tick - raw - controller) * 1e6,
+        "tick_over_mj_step_wall": (min(tick_wall) / ticks) / (min(raw_wall) / ticks),
+        "real_time_factor": duration / (tick * ticks),
+        "real_time_factor_wall": duration / min(tick_wall),
+        "cores": cores,
+        "real_time_factor_all_cores": count * duration / all_cores,
+        "batch": BATCH,
+        "batch_1_thread_s": t1,
+        "batch_2_threads_s": t2,
+        "batch_speedup_2_over_1": t1 / t2,
+        "batch_1_thread_cpu_s": statistics.median(cpu1),
+        "batch_2_threads_cpu_s": statistics.median(cpu2),
+        "load_average_1min": 0.5 * (load1 + os.getloadavg()[0]),
+        "python_tick_us": py_tick * 1e6,
+        "python_tick_over_mj_step": py_tick / raw,
+        "python_real_time_factor": py_duration / (py_tick * py_ticks),
+        "python_real_time_factor_wall": py_duration / min(w for _, w in py_runs),
+    }
