@@ -190,7 +190,17 @@ Status QuadrupedController::configure(const QuadrupedConfig& config, RobotModelP
     c.com_ = Eigen::Vector3d(cog.x(), cog.y(), cog.z());
     const KDL::RotationalInertia Ic = total.RefPoint(cog).getRotationalInertia();
     c.inertia_ = Eigen::Map<const Eigen::Matrix3d>(Ic.data);
-    if (!cfg.inertia_diag.isZero()) c.inertia_ = cfg.inertia_diag.asDiagonal();
+    c.inertia_free_ = free_leg_inertia(*model, config.trunk_link, config.feet, c.stand_q_, c.mass_,
+                                       c.com_, c.inertia_);
+    if (!cfg.inertia_diag.isZero()) {
+      // An override scales the legs' couplings with it (axis by axis).
+      const Eigen::Vector3d s = cfg.inertia_diag.cwiseQuotient(c.inertia_.diagonal()).cwiseSqrt();
+      Matrix6d scale = Matrix6d::Identity();
+      scale.bottomRightCorner<3, 3>() = s.asDiagonal();
+      c.inertia_ = cfg.inertia_diag.asDiagonal();
+      c.inertia_free_.composite.bottomRightCorner<3, 3>() = c.inertia_;
+      for (auto& a : c.inertia_free_.coupling) a = scale * a * scale;
+    }
     cfg.inertia_diag = c.inertia_.diagonal();
   }
   // Sizes that scale with the leg.
@@ -219,8 +229,7 @@ Status QuadrupedController::configure(const QuadrupedConfig& config, RobotModelP
   {
     Eigen::Vector3d inertia = Eigen::Vector3d::Zero();
     for (int i = 0; i < kLegs; ++i) {
-      KDL::Chain chain;
-      model->tree().getChain(config.trunk_link, config.feet[i], chain);
+      const KDL::Chain chain = leg_chain(*model, config.trunk_link, config.feet[i]);
       KDL::ChainDynParam dyn(chain, KDL::Vector::Zero());
       KDL::JntArray q(3);
       KDL::JntSpaceInertiaMatrix H(3);
@@ -659,7 +668,10 @@ void QuadrupedController::distribute_forces(QuadrupedOutput& out) noexcept {
     force += f_.segment<3>(3 * i);
     moment += feet[i].cross(f_.segment<3>(3 * i));
   }
-  const Eigen::Matrix3d I_world = k.R * inertia_ * k.R.transpose();
+  std::array<bool, kLegs> swinging{};
+  for (int i = 0; i < kLegs; ++i) swinging[i] = !k.stance[i];
+  const Eigen::Matrix3d I_body = cfg_.predict_legs_free ? inertia_free_.rotational(swinging) : inertia_;
+  const Eigen::Matrix3d I_world = k.R * I_body * k.R.transpose();
   k.accel.head<3>() = force / mass_;
   k.accel.tail<3>() = I_world.ldlt().solve(moment);
 }
