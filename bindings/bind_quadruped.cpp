@@ -75,6 +75,7 @@ void bind_quadruped(py::module_& m) {
       .def_readwrite("foothold_shift", &QuadrupedConfig::foothold_shift)
       .def_readwrite("swing_feedforward", &QuadrupedConfig::swing_feedforward)
       .def_readwrite("predict_swing", &QuadrupedConfig::predict_swing)
+      .def_readwrite("swing_predict_from", &QuadrupedConfig::swing_predict_from)
       .def_readwrite("swing_prediction_residual", &QuadrupedConfig::swing_prediction_residual)
       .def_readwrite("swing_kp", &QuadrupedConfig::swing_kp)
       .def_readwrite("swing_kd", &QuadrupedConfig::swing_kd)
