@@ -75,12 +75,14 @@ void bind_quadruped(py::module_& m) {
       .def_readwrite("foothold_shift", &QuadrupedConfig::foothold_shift)
       .def_readwrite("swing_feedforward", &QuadrupedConfig::swing_feedforward)
       .def_readwrite("predict_swing", &QuadrupedConfig::predict_swing)
+      .def_readwrite("swing_predict_from", &QuadrupedConfig::swing_predict_from)
       .def_readwrite("swing_prediction_residual", &QuadrupedConfig::swing_prediction_residual)
       .def_readwrite("swing_kp", &QuadrupedConfig::swing_kp)
       .def_readwrite("swing_kd", &QuadrupedConfig::swing_kd)
       .def_readwrite("max_acceleration", &QuadrupedConfig::max_acceleration)
       .def_readwrite("actuation_delay", &QuadrupedConfig::actuation_delay)
       .def_readwrite("predict_in_flight", &QuadrupedConfig::predict_in_flight)
+      .def_readwrite("predict_legs_free", &QuadrupedConfig::predict_legs_free)
       .def_readwrite("trust_ramp", &QuadrupedConfig::trust_ramp)
       .def_readwrite("load_ramp", &QuadrupedConfig::load_ramp)
       .def_readwrite("max_position_lag", &QuadrupedConfig::max_position_lag)
@@ -151,6 +153,8 @@ void bind_quadruped(py::module_& m) {
       .def_property_readonly("com", &QuadrupedController::com, "(3) [m] CoM standing, trunk frame")
       .def_property_readonly("inertia", &QuadrupedController::inertia,
                              "(3, 3) [kg m^2] composite inertia about the CoM, trunk axes")
+      .def_property_readonly("inertia_free", &QuadrupedController::inertia_free,
+                             "(3, 3) [kg m^2] about the CoM with the leg joints free")
       .def("reset", &QuadrupedController::reset,
            "leave a latched safe stop and forget the measurement order")
       .def_property_readonly("counters", &QuadrupedController::counters)

@@ -66,8 +66,10 @@ Status validate(const QuadrupedConfig& c, std::string* why) {
   if (!(c.swing_prediction_residual >= 0 && c.swing_prediction_residual <= 1))
     return fail("swing_prediction_residual must be in [0, 1]");
   if (!(c.swing_frequency > 0) || !(c.swing_damping >= 0) || !(c.swing_delay_margin > 0) ||
+      !(c.swing_predict_from > 0) ||
       !(c.swing_kp.array() >= 0).all() || !(c.swing_kd.array() >= 0).all())
-    return fail("swing_frequency, swing_delay_margin > 0; swing_damping, swing_kp, swing_kd >= 0");
+    return fail("swing_frequency, swing_delay_margin, swing_predict_from > 0; swing_damping, "
+                "swing_kp, swing_kd >= 0");
   if (!(c.safe_stiffness > 0) || !(c.safe_time_constant >= 0) || !(c.safe_kp >= 0) || !(c.safe_kd >= 0))
     return fail("safe_stiffness > 0; safe_time_constant, safe_kp, safe_kd >= 0");
   if (!c.kp_position.allFinite() || !c.kd_velocity.allFinite() || !c.kp_orientation.allFinite() ||
@@ -190,7 +192,17 @@ Status QuadrupedController::configure(const QuadrupedConfig& config, RobotModelP
     c.com_ = Eigen::Vector3d(cog.x(), cog.y(), cog.z());
     const KDL::RotationalInertia Ic = total.RefPoint(cog).getRotationalInertia();
     c.inertia_ = Eigen::Map<const Eigen::Matrix3d>(Ic.data);
-    if (!cfg.inertia_diag.isZero()) c.inertia_ = cfg.inertia_diag.asDiagonal();
+    c.inertia_free_ = free_leg_inertia(*model, config.trunk_link, config.feet, c.stand_q_, c.mass_,
+                                       c.com_, c.inertia_);
+    if (!cfg.inertia_diag.isZero()) {
+      // An override scales the legs' couplings with it (axis by axis).
+      const Eigen::Vector3d s = cfg.inertia_diag.cwiseQuotient(c.inertia_.diagonal()).cwiseSqrt();
+      Matrix6d scale = Matrix6d::Identity();
+      scale.bottomRightCorner<3, 3>() = s.asDiagonal();
+      c.inertia_ = cfg.inertia_diag.asDiagonal();
+      c.inertia_free_.composite.bottomRightCorner<3, 3>() = c.inertia_;
+      for (auto& a : c.inertia_free_.coupling) a = scale * a * scale;
+    }
     cfg.inertia_diag = c.inertia_.diagonal();
   }
   // Sizes that scale with the leg.
@@ -219,8 +231,7 @@ Status QuadrupedController::configure(const QuadrupedConfig& config, RobotModelP
   {
     Eigen::Vector3d inertia = Eigen::Vector3d::Zero();
     for (int i = 0; i < kLegs; ++i) {
-      KDL::Chain chain;
-      model->tree().getChain(config.trunk_link, config.feet[i], chain);
+      const KDL::Chain chain = leg_chain(*model, config.trunk_link, config.feet[i]);
       KDL::ChainDynParam dyn(chain, KDL::Vector::Zero());
       KDL::JntArray q(3);
       KDL::JntSpaceInertiaMatrix H(3);
@@ -233,11 +244,11 @@ Status QuadrupedController::configure(const QuadrupedConfig& config, RobotModelP
     const double w = cfg.swing_frequency;
     if (cfg.swing_kp.isZero()) cfg.swing_kp = inertia * w * w;
     if (cfg.swing_kd.isZero()) cfg.swing_kd = 2.0 * cfg.swing_damping * w * inertia;
-    // The joint predictor only where the whole delay would cap the swing gains (omega (delay +
-    // dt) above the margin): it models a free leg, so a foot touching early (stones, soft ground)
+    // The joint predictor only where the delay takes a large phase at the swing frequency
+    // (omega (delay + dt) above swing_predict_from): it models a free leg, so a foot touching early (stones, soft ground)
     // makes its prediction wrong. Measured with it always on: our model fell on stones and
     // compliant ground at 10 ms (it passes both without); at 35 ms it is what makes the trot pass.
-    if (cfg.swing_frequency * (cfg.actuation_delay + cfg.dt) <= cfg.swing_delay_margin)
+    if (cfg.swing_frequency * (cfg.actuation_delay + cfg.dt) <= cfg.swing_predict_from)
       cfg.predict_swing = false;
     // With the joint predictor only its error is left of the delay inside the loop.
     const double unpredicted = cfg.predict_swing ? cfg.swing_prediction_residual : 1.0;
@@ -659,7 +670,10 @@ void QuadrupedController::distribute_forces(QuadrupedOutput& out) noexcept {
     force += f_.segment<3>(3 * i);
     moment += feet[i].cross(f_.segment<3>(3 * i));
   }
-  const Eigen::Matrix3d I_world = k.R * inertia_ * k.R.transpose();
+  std::array<bool, kLegs> swinging{};
+  for (int i = 0; i < kLegs; ++i) swinging[i] = !k.stance[i];
+  const Eigen::Matrix3d I_body = cfg_.predict_legs_free ? inertia_free_.rotational(swinging) : inertia_;
+  const Eigen::Matrix3d I_world = k.R * I_body * k.R.transpose();
   k.accel.head<3>() = force / mass_;
   k.accel.tail<3>() = I_world.ldlt().solve(moment);
 }

@@ -15,6 +15,7 @@
 #include "kiloloop/kinematics/leg_kinematics.hpp"
 #include "kiloloop/model/robot_model.hpp"
 #include "kiloloop/quadruped/contact_detector.hpp"
+#include "kiloloop/quadruped/free_leg_inertia.hpp"
 #include "kiloloop/quadruped/gait_scheduler.hpp"
 #include "kiloloop/quadruped/in_flight.hpp"
 #include "kiloloop/quadruped/stance_force.hpp"
@@ -93,9 +94,14 @@ struct QuadrupedConfig {
   // still in flight, M_leg^-1 (tau - gravity) with M_leg the leg's joint-space inertia standing.
   // The delay left in the loop is then only the predictor's error, so the gains are capped with
   // swing_prediction_residual * actuation_delay (+ dt) instead of the whole delay. Used only
-  // where the delay would otherwise lower the swing gains (swing_frequency * (actuation_delay +
-  // dt) > swing_delay_margin); config() reports whether it is on.
+  // where the delay takes a phase swing_frequency * (actuation_delay + dt) above
+  // swing_predict_from; config() reports whether it is on.
   bool predict_swing = true;
+  // [rad] Below it (10 ms at 30 rad/s: 0.33) the swing legs run without the joint predictor; at
+  // 0.48 (15 ms) they need it. Measured on Go1: with the switch at swing_delay_margin (0.55) it
+  // was off at 15 ms and the trot fell, while 20 and 25 ms passed; with it on at 15 ms the trot
+  // passes (0.22 deg roll/pitch RMS).
+  double swing_predict_from = 0.4;
   double swing_prediction_residual = 0.3;  // [-] fraction of the delay the predictor leaves
   Eigen::Vector3d swing_kp = Eigen::Vector3d::Zero();  // [N m/rad] abd, pitch, knee; 0: derived
   Eigen::Vector3d swing_kd = Eigen::Vector3d::Zero();  // [N m s/rad]; 0: derived
@@ -114,6 +120,12 @@ struct QuadrupedConfig {
   // (a Smith predictor), and contact forces estimated from the torque acting now, not the one
   // just sent; false: first order (x + delay * xdot) only.
   bool predict_in_flight = true;
+  // The trunk rotation the in-flight moments cause, predicted with the inertia those moments meet
+  // within the delay: the swing legs' joints free, the stance legs locked (free_leg_inertia.hpp;
+  // all free, roll is 3.6x below the composite on Go1, 2.4x on our model). false: the composite
+  // inertia. Measured at 25 ms: with the composite, Go1's trot rolled at 9-11 Hz, growing until
+  // it fell (a delayed roll loop at its limit: the predictor expected 1/3 of the roll it got).
+  bool predict_legs_free = true;
   // [s] the estimator's trust in a stance leg ramps up over this time after touch-down and down
   // over this time before its scheduled lift-off (a landing foot still sinks in).
   double trust_ramp = 0.03;
@@ -197,6 +209,8 @@ class QuadrupedController {
   const Vector12d& crouch_pose() const { return crouch_q_; } // [rad] safe-stop posture
   const Eigen::Vector3d& com() const { return com_; }        // [m] whole-robot CoM standing, trunk frame
   const Eigen::Matrix3d& inertia() const { return inertia_; } // [kg m^2] composite, about the CoM
+  // [kg m^2] about the CoM with all the leg joints free (free_leg_inertia.hpp)
+  Eigen::Matrix3d inertia_free() const { return inertia_free_.rotational({true, true, true, true}); }
   // The statuses step returned since configure (one StatusCounters for every controller).
   const StatusCounters& counters() const { return counters_; }
   // Leaves a latched safe stop and forgets the measurement order (a new run, a new clock); the
@@ -265,6 +279,7 @@ class QuadrupedController {
   double mass_ = 0.0;
   Eigen::Vector3d com_ = Eigen::Vector3d::Zero();  // [m] whole-robot CoM, trunk frame, standing
   Eigen::Matrix3d inertia_ = Eigen::Matrix3d::Identity();
+  FreeLegInertia inertia_free_;  // the composite and each leg's coupling, about the CoM
   GaitScheduler gait_;
   ContactDetector contacts_;
   StateEstimator estimator_;
