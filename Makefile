@@ -3,7 +3,8 @@
 # built by scikit-build-core into build/py (incremental; the C++ tests are built there too).
 # Hardening: `make fuzz` (1,000,000 inputs per fuzz target, from the build/py build) and
 # `make sanitize` (a separate plain-CMake build in build/asan with ASan + UBSan: the C++ tests,
-# short fuzz runs, and the core built with -fno-exceptions -fno-rtti).
+# short fuzz runs, and the core built with -fno-exceptions -fno-rtti). CI (.ci/run) runs
+# `make test`, then `make sanitize` (docs/hardening.md: stage times).
 # mujoco is installed before the build: the native SIL loop compiles against its wheel's headers.
 SHELL := /bin/bash
 PYTHON ?= python3
@@ -16,6 +17,10 @@ SAN_DIR := build/asan
 FUZZ_INPUTS ?= 1000000
 FUZZ_SEED ?= 1
 SAN_FUZZ_INPUTS ?= 20000
+# kiloloop_core_rt (every core source with -fno-exceptions -fno-rtti, -O0) and its smoke program in
+# the sanitizer build. CI sets it OFF: there pytest's firmware tests already compile the installed
+# core that way (-O2) and replay through it bit for bit (tests/test_firmware_b2b.py).
+SAN_RT ?= ON
 JOBS ?= 2
 # LeakSanitizer on; any UB report is fatal (also compiled in: -fno-sanitize-recover=undefined).
 SAN_ENV := ASAN_OPTIONS=detect_leaks=1:abort_on_error=1:strict_string_checks=1 \
@@ -64,12 +69,16 @@ fuzz: build
 	$(BUILD_DIR)/kiloloop_fuzz --inputs $(FUZZ_INPUTS) --seed $(FUZZ_SEED)
 
 # ASan + UBSan build of the core, the URDF loader, the C++ tests and the fuzz harness (plain
-# CMake, -O1), plus kiloloop_core_rt (-fno-exceptions -fno-rtti); runs ctest there (the tests,
-# SAN_FUZZ_INPUTS inputs per fuzz target, the no-exceptions smoke program).
+# CMake, -O1: the sanitizers' usual level; -g1: line numbers in reports), plus kiloloop_core_rt
+# (-fno-exceptions -fno-rtti; SAN_RT); runs ctest there (the tests, SAN_FUZZ_INPUTS inputs per
+# fuzz target, the no-exceptions smoke program). Incremental. Any report fails the run: UBSan
+# halts (-fno-sanitize-recover=undefined), ASan aborts, LeakSanitizer is on (tests/lsan.supp:
+# third-party leaks only). The allocation tests count with ASan's malloc hook here
+# (cpp/testing/alloc_counter.cpp); the malloc interposer's proof is build/py's (`make test`).
 sanitize: system-deps $(BIN)/cmake
 	$(BIN)/cmake -S . -B $(SAN_DIR) -G Ninja -DCMAKE_MAKE_PROGRAM=$(abspath $(BIN)/ninja) \
 	  -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g1 -DNDEBUG" \
-	  -DKILOLOOP_SANITIZE=ON -DKILOLOOP_RT_NO_EXCEPTIONS=ON -DKILOLOOP_BUILD_TESTS=ON \
+	  -DKILOLOOP_SANITIZE=ON -DKILOLOOP_RT_NO_EXCEPTIONS=$(SAN_RT) -DKILOLOOP_BUILD_TESTS=ON \
 	  -DKILOLOOP_BUILD_PYTHON=OFF -DKILOLOOP_BUILD_BENCH=OFF \
 	  -DKILOLOOP_FUZZ_SHORT_INPUTS=$(SAN_FUZZ_INPUTS)
 	$(BIN)/cmake --build $(SAN_DIR) -j $(JOBS)

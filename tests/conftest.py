@@ -1,7 +1,11 @@
+from pathlib import Path
+
 import numpy as np
 import pytest
 
 import kiloloop as kl
+
+ROOT = Path(__file__).resolve().parents[1]
 
 
 @pytest.fixture(scope="session")
@@ -19,3 +23,14 @@ def rng(request):
     seed = 20261122
     print(f"seed {seed} for {request.node.name}")
     return np.random.default_rng(seed)
+
+
+@pytest.fixture(scope="session")
+def firmware_prefix():
+    """Install prefix of the firmware path's core (kiloloop_core compiled with -fno-exceptions
+    -fno-rtti, the URDF loader beside it), built once per session in the source tree's
+    build/firmware (incremental across sessions). The back-to-back tests and the embed example
+    both build against it through find_package(kiloloop): one core compile (about 3 minutes on 2
+    cores from clean) where each used to compile its own."""
+    from kiloloop.firmware import build
+    return build.install_rt_core(ROOT, ROOT / "build" / "firmware")

@@ -1,9 +1,11 @@
 """examples/embed: the firmware path, end to end, and its bit identity with the Python module.
 
-Builds and installs the core with CMake (no Python, no benches) into a temporary prefix, builds the
-standalone examples/embed project against that prefix through find_package(kiloloop), runs
-embed_demo on the UR5 and compares its 1000 x 6 torques and statuses with the Python twin
-(examples/embed/embed_twin.py) run in-process: they must be equal to the last bit.
+Builds the standalone examples/embed project against the firmware path's installed core (conftest's
+firmware_prefix: kiloloop_core with -fno-exceptions -fno-rtti and the URDF loader, configured with
+CMake without Python and benches, built once per session and shared with the back-to-back tests)
+through find_package(kiloloop), runs embed_demo on the UR5 and compares its 1000 x 6 torques and
+statuses with the Python twin (examples/embed/embed_twin.py) run in-process: they must be equal to
+the last bit.
 """
 import importlib.util
 import math
@@ -39,8 +41,8 @@ def _run(cmd, timeout=900):
 
 
 @pytest.fixture(scope="module")
-def embed_demo(tmp_path_factory):
-    """Path of embed_demo, built against a freshly installed kiloloop (once per module)."""
+def embed_demo(tmp_path_factory, firmware_prefix):
+    """Path of embed_demo, built against the session's installed kiloloop (once per module)."""
     cmake = _tool("cmake")
     if cmake is None:
         pytest.fail("cmake not found (neither beside the Python interpreter nor on PATH): "
@@ -48,12 +50,7 @@ def embed_demo(tmp_path_factory):
     ninja = _tool("ninja")
     generator = ["-G", "Ninja", f"-DCMAKE_MAKE_PROGRAM={ninja}"] if ninja else []
 
-    tmp = tmp_path_factory.mktemp("embed")
-    core, prefix, example = tmp / "core", tmp / "prefix", tmp / "example"
-    _run([cmake, "-S", ROOT, "-B", core, *generator, "-DCMAKE_BUILD_TYPE=Release",
-          "-DKILOLOOP_BUILD_PYTHON=OFF", "-DKILOLOOP_BUILD_BENCH=OFF", "-DKILOLOOP_BUILD_TESTS=OFF"])
-    _run([cmake, "--build", core, "--parallel"])
-    _run([cmake, "--install", core, "--prefix", prefix, "--component", "dev"])
+    prefix, example = firmware_prefix, tmp_path_factory.mktemp("embed") / "example"
     _run([cmake, "-S", EXAMPLE, "-B", example, *generator, "-DCMAKE_BUILD_TYPE=Release",
           f"-DCMAKE_PREFIX_PATH={prefix}"])
     _run([cmake, "--build", example, "--parallel"])

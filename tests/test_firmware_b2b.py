@@ -3,8 +3,10 @@ output, `kiloloop export` writes the robot as one header, the firmware example b
 installed -fno-exceptions -fno-rtti core and replays the log; every output must equal the SIL
 run's bit for bit, and the exported model's mass matrix, gravity and Coriolis must equal the
 URDF-loaded model's (==). One build directory for the session (the source tree's
-build/firmware: the core is built once, each robot's firmware is one translation unit).
+build/firmware: the core is built once, by conftest's firmware_prefix, shared with the embed
+example; each robot's firmware is one translation unit).
 """
+import re
 from pathlib import Path
 
 import pytest
@@ -23,8 +25,8 @@ WORK = ROOT / "build" / "firmware"
 DURATION = 0.3  # [s] 300 ticks: short, and past every controller's start-up transient
 
 
-def _check(robot, duration=DURATION, chains=1):
-    result = run_b2b(robot, duration=duration, work=WORK, echo=lambda *_: None)
+def _check(prefix, robot, duration=DURATION, chains=1):
+    result = run_b2b(robot, duration=duration, work=WORK, prefix=prefix, echo=lambda *_: None)
     ticks = int(round(duration * 1000))
     assert result.ticks == ticks
     assert result.replay_output == f"bit-identical: {ticks} ticks", result.replay_output
@@ -33,29 +35,30 @@ def _check(robot, duration=DURATION, chains=1):
 
 
 @pytest.mark.parametrize("robot", ["ur5", "quadruped", "aerial_manipulator"])
-def test_b2b_our_robots(robot):
-    _check(robot)
+def test_b2b_our_robots(firmware_prefix, robot):
+    _check(firmware_prefix, robot)
 
 
-def test_b2b_go1(tmp_path):
+def test_b2b_go1(firmware_prefix, tmp_path):
     path = quadruped_robots.go1_robot_file(tmp_path)
     if path is None:
         pytest.skip("example-robot-data is not installed")
-    _check(path)
+    _check(firmware_prefix, path)
 
 
 @pytest.mark.parametrize("name", ["ur3", "panda"])
-def test_b2b_example_robot_data_arms(tmp_path, name):
+def test_b2b_example_robot_data_arms(firmware_prefix, tmp_path, name):
     rel, root, tip = {"ur3": ("ur_description/urdf/ur3_robot.urdf", "base_link", "tool0"),
                       "panda": ("panda_description/urdf/panda.urdf", "panda_link0",
                                 "panda_link8")}[name]
-    _check(robot_files.minimal_arm(tmp_path, robot_files.erd_urdf(rel), root, tip, name))
+    arm = robot_files.minimal_arm(tmp_path, robot_files.erd_urdf(rel), root, tip, name)
+    _check(firmware_prefix, arm)
 
 
-def test_b2b_aerial_test_robots(tmp_path):
+def test_b2b_aerial_test_robots(firmware_prefix, tmp_path):
     for name, path in aerial_test_robots.write_all(tmp_path).items():
         # iris is rigid: no joint-space dynamics to compare (its outputs are compared)
-        _check(path, duration=0.1, chains=0 if name == "iris" else 1)
+        _check(firmware_prefix, path, duration=0.1, chains=0 if name == "iris" else 1)
 
 
 def test_two_sil_runs_give_the_same_log_hash(tmp_path):
@@ -68,3 +71,19 @@ def test_two_sil_runs_give_the_same_log_hash(tmp_path):
                                      sets={"controller.kp_position": "[20.0, 20.0, 250.0]"}),
                       2, tmp_path / "other.log")
     assert other != hashes[0]  # the hash does see a changed run
+
+
+def test_the_installed_core_is_compiled_without_exceptions_and_rtti(firmware_prefix):
+    """What the replays run through: every kiloloop_core object compiled with -fno-exceptions
+    -fno-rtti (the real-time translation units as firmware compiles them); the URDF loader, init
+    time only, keeps exceptions."""
+    ninja = (WORK / "core" / "build.ninja").read_text()
+    flags = {}
+    for target, line in re.findall(r"^build CMakeFiles/(\w+)\.dir/\S+\.o: [^\n]*\n(?:  [^\n]*\n)*?"
+                                   r"  FLAGS = ([^\n]*)$", ninja, re.MULTILINE):
+        flags.setdefault(target, []).append(line.split())
+    assert len(flags.get("kiloloop_core", [])) > 30, sorted(flags)
+    assert all("-fno-exceptions" in f and "-fno-rtti" in f for f in flags["kiloloop_core"])
+    assert flags.get("kiloloop_urdf") and not any("-fno-exceptions" in f
+                                                  for f in flags["kiloloop_urdf"])
+    assert any(firmware_prefix.glob("lib*/cmake/kiloloop/kiloloopConfig.cmake"))

@@ -69,9 +69,8 @@ Status NumericIk::configure(const NumericIkConfig& config, const RobotModel& mod
   ik.J_ = ik.J_try_ = ik.WJ_ = Eigen::MatrixXd::Zero(6, n);
   ik.A_ = ik.A_act_ = Eigen::MatrixXd::Zero(n, n);
   ik.g_act_ = ik.active_ = Eigen::VectorXd::Zero(n);
-  ik.ldlt_ = Eigen::LDLT<Eigen::MatrixXd>(n);
-  // Compute once: moving an LDLT that never computed copies its unset status field (UBSan:
-  // invalid value for ComputationInfo), and the workspace is moved into place below.
+  // Sized by computing once (not by assigning LDLT(n): that temporary never computed, and moving
+  // it reads its unset status field, UBSan: invalid value for ComputationInfo).
   ik.ldlt_.compute(Eigen::MatrixXd::Identity(n, n));
   *out = std::move(ik);
   return Status::kOk;

@@ -81,7 +81,10 @@ def check_model(exe: Path, robot, chains, work: Path) -> tuple[bool, int]:
 
 
 def run_b2b(robot_arg, *, duration: float = 1.0, seed: int = 0, sets: dict | None = None,
-            work=None, echo=print) -> B2bResult:
+            work=None, prefix=None, echo=print) -> B2bResult:
+    """SIL run -> log -> export -> firmware build -> replay, for one robot. `prefix`: an install of
+    the firmware core (build.install_rt_core) to build against; by default it is built or updated
+    in `work` first."""
     from .. import _core
     from ..robot import Robot
 
@@ -99,7 +102,7 @@ def run_b2b(robot_arg, *, duration: float = 1.0, seed: int = 0, sets: dict | Non
     header = write_export(robot, family, c.model, c.config, here / "export",
                           {"scenario": family.scenario, "seed": seed, "duration": duration})
     echo(f"  export: {header}")
-    prefix = build.install_rt_core(source, work)
+    prefix = Path(prefix) if prefix else build.install_rt_core(source, work)
     exe = build.build_firmware(source, prefix, header.parent, here / "build")
     echo(f"  firmware: {exe} (-fno-exceptions -fno-rtti)")
     proc = build.run_firmware(exe, "replay", log)

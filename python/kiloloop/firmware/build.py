@@ -1,10 +1,11 @@
 """CMake steps of the firmware path, incremental in one work directory (default build/firmware of
 the kiloloop source tree):
 
-    core/      the core built with -fno-exceptions -fno-rtti (no URDF loader, no Python): every
-               real-time translation unit (controllers, QP, model, dynamics) compiled as firmware
-               compiles it
-    prefix/    its install: what find_package(kiloloop) finds
+    core/      the core built with -fno-exceptions -fno-rtti (no Python): every real-time
+               translation unit (controllers, QP, model, dynamics) compiled as firmware compiles
+               it; the URDF loader beside it keeps exceptions (init time; examples/embed uses it)
+    prefix/    its install: what find_package(kiloloop) finds (one install for every robot's
+               firmware and for examples/embed: the tests build the core once per session)
     <robot>/   the robot's export, b2b log and firmware build (examples/firmware)
 """
 from __future__ import annotations
@@ -16,6 +17,12 @@ import sys
 from pathlib import Path
 
 RT_FLAGS = "-fno-exceptions -fno-rtti"
+# How core/ is configured. A core/ configured otherwise (the earlier layout: RT_FLAGS for every
+# target through CMAKE_CXX_FLAGS, no URDF loader) is configured again, CMAKE_CXX_FLAGS emptied.
+CORE_OPTIONS = ["-DCMAKE_BUILD_TYPE=Release", "-DCMAKE_CXX_FLAGS=",
+                "-DKILOLOOP_CORE_NO_EXCEPTIONS=ON", "-DKILOLOOP_BUILD_URDF=ON",
+                "-DKILOLOOP_BUILD_PYTHON=OFF", "-DKILOLOOP_BUILD_BENCH=OFF",
+                "-DKILOLOOP_BUILD_TESTS=OFF", "-DKILOLOOP_BUILD_FUZZ=OFF"]
 
 
 class BuildError(RuntimeError):
@@ -59,16 +66,17 @@ def _run(cmd: list) -> str:
 
 
 def install_rt_core(source: Path, work: Path, jobs: int = 2) -> Path:
-    """Builds (incrementally) and installs the no-exceptions core; returns the install prefix."""
+    """Builds (incrementally) and installs the no-exceptions core and the URDF loader; returns
+    the install prefix."""
     cmake = _tool("cmake")
     core, prefix = work / "core", work / "prefix"
-    if not (core / "CMakeCache.txt").is_file():
-        _run([cmake, "-S", source, "-B", core, *_generator(), "-DCMAKE_BUILD_TYPE=Release",
-              f"-DCMAKE_CXX_FLAGS={RT_FLAGS}", "-DKILOLOOP_BUILD_URDF=OFF",
-              "-DKILOLOOP_BUILD_PYTHON=OFF", "-DKILOLOOP_BUILD_BENCH=OFF",
-              "-DKILOLOOP_BUILD_TESTS=OFF", "-DKILOLOOP_BUILD_FUZZ=OFF"])
-    # Only the core: the test helpers (alloc_counter throws bad_alloc) are no firmware code.
-    _run([cmake, "--build", core, "--target", "kiloloop_core", "--parallel", str(jobs)])
+    cache = core / "CMakeCache.txt"
+    if not cache.is_file() or "KILOLOOP_CORE_NO_EXCEPTIONS:BOOL=ON" not in cache.read_text():
+        _run([cmake, "-S", source, "-B", core, *_generator(), *CORE_OPTIONS])
+    # Only what is installed: the test helpers (alloc_counter throws bad_alloc) are no firmware
+    # code, and the export tool is the Python module's.
+    _run([cmake, "--build", core, "--target", "kiloloop_core", "kiloloop_urdf",
+          "--parallel", str(jobs)])
     _run([cmake, "--install", core, "--prefix", prefix, "--component", "dev"])
     return prefix
 

@@ -88,7 +88,10 @@ class NumericIk {
   Eigen::MatrixXd J_, J_try_, WJ_;                           // (6, nq)
   Eigen::MatrixXd A_, A_act_;                                // (nq, nq)
   Eigen::VectorXd g_act_, active_;                           // (nq) active-set scratch
-  Eigen::LDLT<Eigen::MatrixXd> ldlt_;
+  // Computed on an empty matrix at construction (no allocation): Eigen sets an LDLT's status only
+  // in compute(), and copying or moving one that never computed (a default NumericIk moved into
+  // place by configure) reads that unset field (UBSan: invalid value for ComputationInfo).
+  Eigen::LDLT<Eigen::MatrixXd> ldlt_{Eigen::MatrixXd(0, 0)};
   IkReport report_;
 };
 
