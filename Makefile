@@ -4,7 +4,7 @@
 # Hardening: `make fuzz` (1,000,000 inputs per fuzz target, from the build/py build) and
 # `make sanitize` (a separate plain-CMake build in build/asan with ASan + UBSan: the C++ tests,
 # short fuzz runs, and the core built with -fno-exceptions -fno-rtti). CI (.ci/run) runs
-# `make test`, then `make sanitize` (docs/hardening.md: stage times).
+# `make test` only: `make sanitize` does not fit its 20-minute budget yet (docs/hardening.md).
 # mujoco is installed before the build: the native SIL loop compiles against its wheel's headers.
 SHELL := /bin/bash
 PYTHON ?= python3
@@ -18,7 +18,7 @@ FUZZ_INPUTS ?= 1000000
 FUZZ_SEED ?= 1
 SAN_FUZZ_INPUTS ?= 20000
 # kiloloop_core_rt (every core source with -fno-exceptions -fno-rtti, -O0) and its smoke program in
-# the sanitizer build. CI sets it OFF: there pytest's firmware tests already compile the installed
+# the sanitizer build. OFF after `make test`: pytest's firmware tests already compile the installed
 # core that way (-O2) and replay through it bit for bit (tests/test_firmware_b2b.py).
 SAN_RT ?= ON
 JOBS ?= 2
