@@ -20,7 +20,11 @@ void bind_quadruped(py::module_& m) {
       .def_readwrite("accel_noise", &EstimatorConfig::accel_noise)
       .def_readwrite("leg_velocity_noise", &EstimatorConfig::leg_velocity_noise)
       .def_readwrite("foothold_noise", &EstimatorConfig::foothold_noise)
-      .def_readwrite("ground_filter", &EstimatorConfig::ground_filter);
+      .def_readwrite("ground_filter", &EstimatorConfig::ground_filter)
+      .def("validate", [](const EstimatorConfig& c) {
+        std::string why;
+        raise_if_failed(validate(c, &why), why);
+      }, "raises ValueError with the reason when a setting is out of range");
   py::class_<StanceForceConfig>(m, "StanceForceConfig")
       .def(py::init<>())
       .def_readwrite("wrench_weight", &StanceForceConfig::wrench_weight)

@@ -29,10 +29,6 @@ Tally fuzz_quadruped(std::uint64_t seed, std::uint64_t inputs, volatile std::uin
   Clock clock;
   Desc desc;
   int gait = 0;
-  // Since the last (re)configure, an input carried an extreme or ground-truth mutation: the
-  // controller's state may hold its overflow (known defect "range", below).
-  bool tainted = false;
-  std::uint64_t tainted_since = 0;
   for (std::uint64_t k = 0; k < inputs; ++k) {
     *progress = k;
     ++tally.inputs;
@@ -41,7 +37,6 @@ Tally fuzz_quadruped(std::uint64_t seed, std::uint64_t inputs, volatile std::uin
       QuadrupedController::configure(config, model, &ctrl, &why);  // a new run
       out = QuadrupedOutput{};
       stamps.reset();
-      tainted = false;
       clock.t = r.uniform(0.0, 100.0);
       gait = r.below(2);
     }
@@ -62,11 +57,10 @@ Tally fuzz_quadruped(std::uint64_t seed, std::uint64_t inputs, volatile std::uin
     in.true_velocity.setZero();
     in.true_quat = in.quat;
     clock.tick(r, stamps, &in.t, &in.stamp);
-    bool gait_bad = false, extreme = false, ground_truth = false;
+    bool gait_bad = false;
     const int mutations = r.chance(0.4) ? 0 : 1 + r.below(2);
     for (int m = 0; m < mutations; ++m) {
       const bool nonfinite = r.chance(0.5);
-      extreme |= !nonfinite;
       switch (r.below(12)) {
         case 0: poke(r, in.q.data(), 12, nonfinite, desc, "q"); break;
         case 1: poke(r, in.qd.data(), 12, nonfinite, desc, "qd"); break;
@@ -84,17 +78,15 @@ Tally fuzz_quadruped(std::uint64_t seed, std::uint64_t inputs, volatile std::uin
           break;
         }
         case 9:
-          in.use_ground_truth = ground_truth = true;
+          in.use_ground_truth = true;
           poke(r, r.chance(0.5) ? in.true_position.data() : in.true_velocity.data(), 3, nonfinite,
                desc, "true_position|true_velocity (use_ground_truth)");
           break;
         case 10:
-          extreme = true;
           in.velocity_command.setConstant(r.chance(0.5) ? 1e300 : -1e300);
           desc.add("velocity_command ~ 1e300");
           break;
         default:
-          extreme = true;
           in.accel.setConstant(extreme_value(r));
           desc.add("accel all = %.17g", in.accel[0]);
           break;
@@ -106,24 +98,17 @@ Tally fuzz_quadruped(std::uint64_t seed, std::uint64_t inputs, volatile std::uin
                         (!in.use_ground_truth ||
                          (in.true_position.allFinite() && in.true_velocity.allFinite() && in.true_quat.allFinite()));
     const bool bad = !meas_ok || !cmd_ok;
-    // Known defects of the quadruped controller (reported, not fixed here: cpp/src/quadruped is
-    // owned elsewhere). A finding counts as known when the input carries only these causes
-    // (the order of the stamps is no longer one: the controller applies MeasurementGate):
-    //   truth - use_ground_truth with a non-finite or extreme true_position/true_velocity;
-    //   gait  - a gait value outside the enum is not rejected;
-    //   range - extreme finite inputs (+-1e308 gyro/accel/q, 1e300 velocity command) overflow
-    //           the estimate and wrench outputs.
-    const bool other_bad = !(in.q.allFinite() && in.qd.allFinite() && in.gyro.allFinite() &&
-                             in.accel.allFinite() && in.quat.allFinite() &&
-                             stamps.fresh(in.t, in.stamp) && in.velocity_command.allFinite());
-    const bool known_miss = !other_bad && (gait_bad || ground_truth);
-    if ((extreme || ground_truth) && !tainted) tainted = true, tainted_since = k;
-    const bool known_output = tainted;
     tally.bad_inputs += bad;
     const Status s = ctrl.step(in, out);
-    // Accepted unless the controller refused the sensors (an extreme quaternion of norm < 0.5
-    // is one it refuses without the harness calling it bad).
-    if (meas_ok && s != Status::kNonFiniteMeasurement) stamps.accept(in.stamp);
+    // A measurement the controller must not use does not count for the order rule: one beyond
+    // the sanity bound (|x| > 1e6, a clock beyond 1e9 s: control/sane_range.hpp), a quaternion
+    // far from unit norm, unusable ground truth.
+    auto sane = [](const auto& v) { return v.allFinite() && v.cwiseAbs().maxCoeff() <= 1e6; };
+    const bool used = meas_ok && std::abs(in.t) <= 1e9 && sane(in.q) && sane(in.qd) && sane(in.gyro) &&
+                      sane(in.accel) && sane(in.quat) && in.quat.norm() > 0.5 &&
+                      (!in.use_ground_truth || (sane(in.true_position) && sane(in.true_velocity) &&
+                                                sane(in.true_quat) && in.true_quat.norm() > 0.5));
+    if (used) stamps.accept(in.stamp);
     if (s != out.status) tally.fail(k, desc, &tally.bad_outputs, "returned %s, out.status %s", to_string(s), to_string(out.status));
     bool finite = out.foot_force.allFinite() && out.contact.allFinite() && out.scheduled.allFinite() &&
                   out.foot_clearance.allFinite() && out.position.allFinite() && out.velocity.allFinite() &&
@@ -141,10 +126,7 @@ Tally fuzz_quadruped(std::uint64_t seed, std::uint64_t inputs, volatile std::uin
           {"wrench", out.wrench.allFinite()}, {"tilt", std::isfinite(out.tilt)}};
       for (const auto& f : fields)
         if (!f.ok) std::snprintf(which + std::strlen(which), sizeof(which) - std::strlen(which), " %s", f.name);
-      tally.fail(k, desc, known_output ? &tally.known_failures : &tally.bad_outputs,
-                 "%snon-finite output:%s (status %s; first extreme/truth input since the last "
-                 "configure: #%llu)", known_output ? "KNOWN (range/truth): " : "", which,
-                 to_string(s), static_cast<unsigned long long>(tainted_since));
+      tally.fail(k, desc, &tally.bad_outputs, "non-finite output:%s (status %s)", which, to_string(s));
     }
     // A defect that persists would be counted on every later input: start a new run instead, so
     // that each count is one input that broke the controller.
@@ -152,12 +134,8 @@ Tally fuzz_quadruped(std::uint64_t seed, std::uint64_t inputs, volatile std::uin
       QuadrupedController::configure(config, model, &ctrl, &why);
       out = QuadrupedOutput{};
       stamps.reset();
-      tainted = false;
     }
-    if (bad && !failed(s))
-      tally.fail(k, desc, known_miss ? &tally.known_failures : &tally.missed_status,
-                 "%sbad input answered %s", known_miss ? "KNOWN (gait/truth): " : "",
-                 to_string(s));
+    if (bad && !failed(s)) tally.fail(k, desc, &tally.missed_status, "bad input answered %s", to_string(s));
   }
   return tally;
 }

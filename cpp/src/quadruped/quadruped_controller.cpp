@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "kiloloop/control/rules.hpp"
+#include "kiloloop/control/sane_range.hpp"
 #include "kiloloop/trajectory/swing_trajectory.hpp"
 
 namespace kiloloop {
@@ -18,10 +19,17 @@ namespace {
 
 constexpr double kGravity = 9.81;
 
-bool finite_input(const QuadrupedInput& in) {
-  return std::isfinite(in.t) && std::isfinite(in.stamp) && in.q.allFinite() && in.qd.allFinite() &&
-         in.gyro.allFinite() && in.accel.allFinite() && in.quat.allFinite() && in.quat.norm() > 0.5 &&
-         in.foothold_offset.allFinite();
+// The measured signals the controller uses finite and within_sane_range (control/sane_range.hpp:
+// a finite value beyond it, such as 1e308, can only be a fault and would overflow the estimate
+// and the wrench); the clock within kSaneTime (t = 1e308 overflowed the gait phase); the
+// simulator's state only where it replaces the estimate (use_ground_truth).
+bool measurement_usable(const QuadrupedInput& in) {
+  const bool truth_ok = !in.use_ground_truth ||
+                        (within_sane_range(in.true_position) && within_sane_range(in.true_velocity) &&
+                         within_sane_range(in.true_quat) && in.true_quat.norm() > 0.5);
+  return std::abs(in.t) <= kSaneTime && within_sane_range(in.q) && within_sane_range(in.qd) &&
+         within_sane_range(in.gyro) && within_sane_range(in.accel) && within_sane_range(in.quat) &&
+         in.quat.norm() > 0.5 && within_sane_range(in.foothold_offset) && truth_ok;
 }
 
 Eigen::Quaterniond to_quat(const Eigen::Vector4d& wxyz) {
@@ -77,6 +85,12 @@ Status validate(const QuadrupedConfig& c, std::string* why) {
       !(c.kd_velocity.array() >= 0).all() || !(c.kp_orientation.array() >= 0).all() ||
       !(c.kd_angular.array() >= 0).all())
     return fail("trunk gains must be finite and >= 0");
+  EstimatorConfig est = c.estimator;
+  est.dt = c.dt;  // the controller's period is the estimator's
+  if (const Status s = validate(est, why); failed(s)) {
+    if (why) *why = "quadruped config: " + *why;
+    return s;
+  }
   return Status::kOk;
 }
 
@@ -272,7 +286,7 @@ Status QuadrupedController::configure(const QuadrupedConfig& config, RobotModelP
   if (failed(c.contacts_.configure(cfg.contact, why))) return Status::kInvalidConfig;
   EstimatorConfig est = cfg.estimator;
   est.dt = cfg.dt;
-  c.estimator_.configure(est);
+  if (failed(c.estimator_.configure(est, why))) return Status::kInvalidConfig;
   Status s = StanceForceQp::configure(cfg.force, &c.force_qp_, why);
   if (failed(s)) return s;
   for (int i = 0; i < kLegs; ++i) c.q_leg_valid_[i] = c.stand_q_.segment<3>(3 * i);
@@ -343,9 +357,11 @@ Status QuadrupedController::run(const QuadrupedInput& in, QuadrupedOutput& out) 
 // 1. Inputs. Bad sensors: hold the last command (a glitch must not drop the robot).
 bool QuadrupedController::read_inputs(const QuadrupedInput& in, QuadrupedOutput& out) noexcept {
   Tick& k = tick_;
-  const Status age = gate_.check(in.t, in.stamp);  // control/rules.hpp: age and order
-  if (!finite_input(in) || failed(age)) {
-    k.status = finite_input(in) ? age : Status::kNonFiniteMeasurement;
+  // Stamp finite, fresh and not older than one already used (control/rules.hpp), then the
+  // signals usable; only a tick that goes on to use its measurement counts for the order.
+  k.status = gate_.check(in.t, in.stamp);
+  if (k.status == Status::kOk && !measurement_usable(in)) k.status = Status::kNonFiniteMeasurement;
+  if (failed(k.status)) {
     if (have_output_) out.tau = tau_prev_;
     else safe_output(in, out.tau);
     Status ignored = k.status;
@@ -353,7 +369,6 @@ bool QuadrupedController::read_inputs(const QuadrupedInput& in, QuadrupedOutput&
     return false;
   }
   gate_.accept(in.stamp);
-  k.status = Status::kOk;
   k.command = in.velocity_command;
   k.requested = in.gait == Gait::kTrot ? Gait::kTrot : Gait::kStand;
   if (!k.command.allFinite() || (in.gait != Gait::kStand && in.gait != Gait::kTrot)) {

@@ -3,6 +3,7 @@
 #include "kiloloop/quadruped/quadruped_controller.hpp"
 
 #include <cmath>
+#include <limits>
 
 #include <gtest/gtest.h>
 
@@ -132,6 +133,76 @@ TEST(QuadrupedController, NonFiniteSensorsHoldTheLastCommand) {
   EXPECT_EQ(c.counters().ticks, 3u);
   EXPECT_EQ(c.counters().count(Status::kNonFiniteMeasurement), 1u);
   EXPECT_EQ(c.counters().count(Status::kStaleMeasurement), 1u);
+}
+
+// A finite value beyond the sanity bound (control/sane_range.hpp) is a fault like NaN: refused
+// with a status and the last command held, and nothing of it reaches the estimate (fuzzing:
+// 1e308 in the accelerometer overflowed the wrench, t = 1e308 the gait phase).
+TEST(QuadrupedController, InsaneInputsAndGroundTruthAreRefused) {
+  QuadrupedController c = make_controller();
+  QuadrupedInput in = standing_input(c);
+  QuadrupedOutput out;
+  c.step(in, out);
+  const Vector12d last = out.tau;
+  int k = 1;
+  auto step_with = [&](auto poke) {
+    QuadrupedInput bad = in;
+    bad.t = bad.stamp = 0.001 * k++;
+    poke(bad);
+    const Status s = c.step(bad, out);
+    EXPECT_EQ(out.tau, last);
+    EXPECT_TRUE(out.position.allFinite() && out.wrench.allFinite());
+    return s;
+  };
+  EXPECT_EQ(step_with([](QuadrupedInput& b) { b.accel.setConstant(1e308); }), Status::kNonFiniteMeasurement);
+  EXPECT_EQ(step_with([](QuadrupedInput& b) { b.gyro[1] = -2e6; }), Status::kNonFiniteMeasurement);
+  EXPECT_EQ(step_with([](QuadrupedInput& b) { b.q[4] = 1e300; }), Status::kNonFiniteMeasurement);
+  EXPECT_EQ(step_with([](QuadrupedInput& b) { b.t = b.stamp = 1e308; }), Status::kNonFiniteMeasurement);
+  EXPECT_EQ(step_with([](QuadrupedInput& b) {
+              b.use_ground_truth = true;
+              b.true_position << 0.0, 0.0, std::numeric_limits<double>::quiet_NaN();
+            }),
+            Status::kNonFiniteMeasurement);
+  EXPECT_EQ(step_with([](QuadrupedInput& b) {
+              b.use_ground_truth = true;
+              b.true_velocity.setConstant(1e307);
+            }),
+            Status::kNonFiniteMeasurement);
+  // The refused ticks did not count for the order rule: the next good tick is accepted.
+  in.t = in.stamp = 0.001 * k;
+  EXPECT_FALSE(failed(c.step(in, out)));
+  EXPECT_TRUE(out.position.allFinite());
+}
+
+// Every setting of the estimator is checked at configure, with the reason.
+TEST(QuadrupedController, EstimatorConfigIsValidatedWithAClearReason) {
+  EXPECT_EQ(validate(EstimatorConfig{}, nullptr), Status::kOk);
+  struct Case { void (*poke)(EstimatorConfig&); const char* word; };
+  const Case cases[] = {
+      {[](EstimatorConfig& e) { e.dt = 0.0; }, "dt"},
+      {[](EstimatorConfig& e) { e.attitude_gain = 1.5; }, "attitude_gain"},
+      {[](EstimatorConfig& e) { e.attitude_gain = std::nan(""); }, "attitude_gain"},
+      {[](EstimatorConfig& e) { e.accel_noise = 0.0; }, "accel_noise"},
+      {[](EstimatorConfig& e) { e.leg_velocity_noise = -1.0; }, "leg_velocity_noise"},
+      {[](EstimatorConfig& e) { e.foothold_noise = std::numeric_limits<double>::infinity(); }, "foothold_noise"},
+      {[](EstimatorConfig& e) { e.ground_filter = -0.1; }, "ground_filter"},
+  };
+  for (const Case& k : cases) {
+    EstimatorConfig e;
+    k.poke(e);
+    std::string why;
+    EXPECT_EQ(validate(e, &why), Status::kInvalidConfig) << k.word;
+    EXPECT_NE(why.find(k.word), std::string::npos) << why;
+    // The controller refuses it too, with the same reason.
+    QuadrupedConfig config;
+    config.estimator = e;
+    QuadrupedController c;
+    why.clear();
+    if (std::string(k.word) != "dt") {  // the controller's dt is the estimator's
+      EXPECT_EQ(QuadrupedController::configure(config, quadruped_model(), &c, &why), Status::kInvalidConfig);
+      EXPECT_NE(why.find(k.word), std::string::npos) << why;
+    }
+  }
 }
 
 // Time going backwards (a stamp older than one already used) is stale: control/rules.hpp's

@@ -1,6 +1,7 @@
 #include "kiloloop/quadruped/state_estimator.hpp"
 
 #include <algorithm>
+#include <cmath>
 
 #include <Eigen/Cholesky>
 #include <Eigen/LU>
@@ -10,9 +11,28 @@ namespace {
 const Eigen::Vector3d kGravity(0.0, 0.0, -9.81);
 }  // namespace
 
-void StateEstimator::configure(const EstimatorConfig& config) {
+Status validate(const EstimatorConfig& c, std::string* why) {
+  auto fail = [&](const char* msg) {
+    if (why) *why = std::string("estimator: ") + msg;
+    return Status::kInvalidConfig;
+  };
+  if (!(std::isfinite(c.dt) && c.dt > 0)) return fail("dt must be finite and > 0 [s]");
+  if (!(c.attitude_gain >= 0 && c.attitude_gain <= 1))
+    return fail("attitude_gain must be in [0, 1] (per-tick pull toward the IMU orientation)");
+  if (!(std::isfinite(c.accel_noise) && c.accel_noise > 0) ||
+      !(std::isfinite(c.leg_velocity_noise) && c.leg_velocity_noise > 0) ||
+      !(std::isfinite(c.foothold_noise) && c.foothold_noise > 0))
+    return fail("accel_noise [m/s^2], leg_velocity_noise [m/s], foothold_noise [m] must be finite and > 0");
+  if (!(c.ground_filter >= 0 && c.ground_filter <= 1))
+    return fail("ground_filter must be in [0, 1] (per touch-down weight)");
+  return Status::kOk;
+}
+
+Status StateEstimator::configure(const EstimatorConfig& config, std::string* why) {
+  if (const Status s = validate(config, why); failed(s)) return s;
   cfg_ = config;
   initialised_ = false;
+  return Status::kOk;
 }
 
 void StateEstimator::reset(const Eigen::Quaterniond& q_imu,

@@ -14,6 +14,7 @@
 //    ground normal (friction cones follow it on slopes) and the height of the ground under the trunk.
 // Fixed-size Eigen throughout: update() is noexcept and allocation-free.
 #include <array>
+#include <string>
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
@@ -31,6 +32,11 @@ struct EstimatorConfig {
   double ground_filter = 0.05;       // per touch-down low-pass weight of the ground normal update
 };
 
+// Finite; dt > 0; 0 <= attitude_gain <= 1 and 0 <= ground_filter <= 1 (per-tick blend weights);
+// accel_noise, leg_velocity_noise, foothold_noise > 0 (the Kalman filter divides by them). The
+// reason in *why.
+Status validate(const EstimatorConfig& config, std::string* why);
+
 struct LegMeasurement {
   bool contact = false;
   bool touched_down = false;       // contact began this tick: latch the foothold
@@ -42,7 +48,8 @@ struct LegMeasurement {
 class StateEstimator {
  public:
   static constexpr int kLegs = 4;
-  void configure(const EstimatorConfig& config);
+  // kInvalidConfig (why) unless validate(config) passes.
+  Status configure(const EstimatorConfig& config, std::string* why);
   // First call (or after reset): initialise orientation from the IMU and position from feet.
   void reset(const Eigen::Quaterniond& q_imu, const std::array<LegMeasurement, kLegs>& legs,
              double foot_radius);
