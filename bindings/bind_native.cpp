@@ -16,6 +16,8 @@
 #include "kiloloop/control/joint_pd_gravity.hpp"
 #include "sil/arm_adapters.hpp"
 #include "sil/batch.hpp"
+#include "sil/imu_model.hpp"
+#include "sil/legged_sensor_stages.hpp"
 #include "sil/mujoco_api.hpp"
 #include "sil/native_loop.hpp"
 #include "sil/quadruped_adapter.hpp"
@@ -153,7 +155,7 @@ void bind_native(py::module_& parent) {
                        std::vector<int> measurement, std::vector<int> actuators, int delay_ticks,
                        std::vector<double> sigma, std::vector<double> quantum, unsigned long long seed,
                        int motor_delay_ticks, double motor_time_constant, std::vector<double> motor_limit,
-                       py::list events, py::list probes, std::optional<py::tuple> stop) {
+                       py::list events, py::list probes, std::optional<py::tuple> stop, py::list stages) {
              auto* pa = &adapter.cast<PyAdapter&>();
              RolloutConfig config;
              config.ticks = ticks;
@@ -183,6 +185,7 @@ void bind_native(py::module_& parent) {
                config.probes.push_back(Probe{p[0].cast<std::string>(), static_cast<Probe::Source>(source),
                                              p[2].cast<std::vector<int>>()});
              }
+             for (auto item : stages) config.sensor_stages.push_back(item.cast<std::shared_ptr<SensorStage>>());
              if (stop) {
                if (stop->size() != 3) throw py::value_error("stop: expected (probe index, element, below)");
                config.stop_probe = (*stop)[0].cast<int>();
@@ -205,7 +208,7 @@ void bind_native(py::module_& parent) {
            py::arg("quantum") = std::vector<double>{}, py::arg("seed") = 0ULL,
            py::arg("motor_delay_ticks") = 0, py::arg("motor_time_constant") = 0.0,
            py::arg("motor_limit") = std::vector<double>{}, py::arg("events") = py::list(),
-           py::arg("probes") = py::list(), py::arg("stop") = py::none())
+           py::arg("probes") = py::list(), py::arg("stop") = py::none(), py::arg("stages") = py::list())
       .def("run",
            [](PyRollout& r) {
              py::gil_scoped_release no_gil;
@@ -328,6 +331,56 @@ void bind_native(py::module_& parent) {
         s.push(u.data(), y.data());
         return y;
       });
+
+  // Measurement stages after the sensor model (sil/legged_sensor_stages.hpp): the native loop
+  // runs them from Rollout(stages=[...]), the per-tick Python loop through apply(t, y); each
+  // run must have its own (they carry state and random streams).
+  {
+    const ImuModelConfig d;  // BMI088 defaults: one place for both loops' settings
+    py::dict defaults;
+    defaults["gyro"] = py::make_tuple(d.gyro.noise_density, d.gyro.bias_random_walk, d.gyro.turn_on_bias);
+    defaults["accel"] = py::make_tuple(d.accel.noise_density, d.accel.bias_random_walk, d.accel.turn_on_bias);
+    m.attr("imu_defaults") = defaults;
+  }
+  py::class_<SensorStage, std::shared_ptr<SensorStage>>(m, "SensorStage",
+                                                        "a measurement stage after the sensor model")
+      .def("configure", [](SensorStage& s, int n) {
+        std::string why;
+        if (!s.configure(n, &why)) throw py::value_error(why);
+      }, py::arg("n"), "checks the stage fits a y of n entries (the per-tick loop calls it once)")
+      .def("apply", [](SensorStage& s, double t, const Array& y) {
+        Eigen::VectorXd out = Eigen::Map<const Eigen::VectorXd>(y.data(), y.size());
+        s.apply(t, out.data());
+        return out;
+      }, py::arg("t"), py::arg("y"), "y after this stage at tick time t [s] (a copy)");
+  py::class_<ImuStage, SensorStage, std::shared_ptr<ImuStage>>(
+      m, "ImuStage", "MEMS IMU errors on y[offset:offset+6] = [gyro; accel] (cpp/sil/imu_model.hpp)")
+      .def(py::init([](int offset, std::array<double, 3> gyro, std::array<double, 3> accel, double dt,
+                       unsigned long long seed) {
+             auto s = std::make_shared<ImuStage>();
+             std::string why;
+             const ImuModelConfig c{InertialNoise{gyro[0], gyro[1], gyro[2]},
+                                    InertialNoise{accel[0], accel[1], accel[2]}, dt, seed};
+             if (!s->setup(c, offset, &why)) throw py::value_error(why);
+             return s;
+           }),
+           py::arg("offset"), py::arg("gyro"), py::arg("accel"), py::arg("dt"), py::arg("seed"),
+           "gyro, accel: (noise density, bias random walk, turn-on bias sigma) each")
+      .def_property_readonly("bias", [](const ImuStage& s) {
+        return Eigen::VectorXd(Eigen::Map<const Eigen::VectorXd>(s.model().bias(), ImuModel::kSize));
+      });
+  py::class_<JointEncoderStage, SensorStage, std::shared_ptr<JointEncoderStage>>(
+      m, "JointEncoderStage", "encoder-difference joint velocity, then q quantized")
+      .def(py::init([](int n, int q_offset, int qd_offset, double q_resolution, double velocity_resolution,
+                       double dt) {
+             auto s = std::make_shared<JointEncoderStage>();
+             std::string why;
+             if (!s->setup(n, q_offset, qd_offset, q_resolution, velocity_resolution, dt, &why))
+               throw py::value_error(why);
+             return s;
+           }),
+           py::arg("n"), py::arg("q_offset"), py::arg("qd_offset"), py::arg("q_resolution"),
+           py::arg("velocity_resolution"), py::arg("dt"));
 #endif
 }
 
