@@ -319,6 +319,7 @@ class QuadrupedRig:
         log.record("base_omega", omega)
         log.record("est_pos", out.position)
         log.record("est_vel", out.velocity)
+        log.record("est_quat", out.quat)
         log.record("tilt", out.tilt)
         log.record("safe_stop", float(out.safe_stop))
         log.record("contact", out.contact)
@@ -439,6 +440,24 @@ def trot_metrics(log, speed: float, since: float, fall_height: float = 0.15) -> 
         "mean_forward_velocity": float(np.mean(v[:, 0])),
         "distance_m": float(log["base_pos"][-1, 0] - log["base_pos"][0, 0]),
         "failed_ticks": int(np.sum(log["status"] < 0)),
+        **attitude_errors(log, since),
+    }
+
+
+def attitude_errors(log, since: float = 0.0) -> dict:
+    """RMS error [deg] of the controller's roll and pitch estimate against the simulator's, from
+    `since` [s] on (yaw is not observed without a magnetometer: its drift is reported apart)."""
+    k = log["t"] >= since
+    roll, pitch = roll_pitch(log["base_quat"][k])
+    roll_est, pitch_est = roll_pitch(log["est_quat"][k])
+    def yaw(q):
+        return np.unwrap(np.arctan2(2 * (q[:, 0] * q[:, 3] + q[:, 1] * q[:, 2]),
+                                    1 - 2 * (q[:, 2] ** 2 + q[:, 3] ** 2)))
+    yaw_error = yaw(log["est_quat"][k]) - yaw(log["base_quat"][k])
+    return {
+        "roll_estimate_rms_error_deg": float(np.degrees(np.sqrt(np.mean((roll_est - roll) ** 2)))),
+        "pitch_estimate_rms_error_deg": float(np.degrees(np.sqrt(np.mean((pitch_est - pitch) ** 2)))),
+        "yaw_estimate_drift_deg": float(np.degrees(yaw_error[-1] - yaw_error[0])) if yaw_error.size else 0.0,
     }
 
 
