@@ -15,7 +15,7 @@ GYRO, ACCEL = np.array([0.1, -0.2, 0.3]), np.array([0.0, 0.5, 9.81])
 
 
 def run(seed, n, q_of_k=lambda k: np.full(N, 0.3), qd=np.zeros(N), settings=None):
-    chain = stages(settings or LeggedSensorSettings(), joints=N, imu_offset=2 * N,
+    chain = stages(settings or LeggedSensorSettings(ideal=False), joints=N, imu_offset=2 * N,
                    encoder_resolution=np.deg2rad(0.1), seed=seed)
     for s in chain:
         s.configure(2 * N + 10)
@@ -35,7 +35,7 @@ def test_ideal_has_no_stages():
 
 def test_imu_carries_a_seeded_bias():
     n = 20000
-    s = LeggedSensorSettings()
+    s = LeggedSensorSettings(ideal=False)
     a, b, c = run(3, n), run(3, n), run(4, n)
     np.testing.assert_array_equal(a, b)
     # The mean error is the bias (turn-on + walk), not zero: it differs between seeds by about
@@ -48,7 +48,7 @@ def test_imu_carries_a_seeded_bias():
 
 
 def test_joint_velocity_comes_from_encoder_differences():
-    s = LeggedSensorSettings()
+    s = LeggedSensorSettings(ideal=False)
     v, dt = 0.37, 0.001
     y = run(0, 200, q_of_k=lambda k: np.full(N, 0.2 + v * k * dt), qd=np.full(N, 123.0))
     qd = y[:, N:2 * N]  # the simulator's 123 rad/s is not used
@@ -62,7 +62,7 @@ def test_joint_velocity_comes_from_encoder_differences():
 
 
 def test_a_stage_that_does_not_fit_y_is_refused():
-    chain = stages(LeggedSensorSettings(), joints=N, imu_offset=2 * N, encoder_resolution=0.0, seed=0)
+    chain = stages(LeggedSensorSettings(ideal=False), joints=N, imu_offset=2 * N, encoder_resolution=0.0, seed=0)
     with pytest.raises(ValueError, match="imu stage"):
         chain[1].configure(2 * N + 3)
     with pytest.raises(ValueError, match="encoder"):
