@@ -20,6 +20,8 @@
 #include "sil/arm_adapters.hpp"
 #include "sil/attitude_noise.hpp"
 #include "sil/batch.hpp"
+#include "sil/imu_model.hpp"
+#include "sil/legged_sensor_stages.hpp"
 #include "sil/mujoco_api.hpp"
 #include "sil/native_loop.hpp"
 #include "sil/quadruped_adapter.hpp"
@@ -171,7 +173,17 @@ void bind_native(py::module_& parent) {
         "references: one row per tick (AerialAdapter::Ref layout)");
   m.attr("AERIAL_REFERENCE_WIDTH") = static_cast<int>(AerialAdapter::kReferenceWidth);
 
-  py::class_<SensorStage, std::shared_ptr<SensorStage>>(m, "SensorStage", "a measurement stage (sensor_stage.hpp)");
+  py::class_<SensorStage, std::shared_ptr<SensorStage>>(m, "SensorStage",
+                                                        "a measurement stage after the sensor model (sensor_stage.hpp)")
+      .def("configure", [](SensorStage& s, int n) {
+        std::string why;
+        if (!s.configure(n, &why)) throw py::value_error(why);
+      }, py::arg("n"), "checks the stage fits a y of n entries (the per-tick loop calls it once)")
+      .def("apply", [](SensorStage& s, double t, const Array& y) {
+        Eigen::VectorXd out = Eigen::Map<const Eigen::VectorXd>(y.data(), y.size());
+        s.apply(t, out.data());
+        return out;
+      }, py::arg("t"), py::arg("y"), "y after this stage at tick time t [s] (a copy)");
   py::class_<AttitudeNoise, SensorStage, std::shared_ptr<AttitudeNoise>>(
       m, "AttitudeNoise", "small random body-frame rotation of the quaternion y[offset..offset+3] (seeded)")
       .def(py::init([](int offset, double sigma, unsigned long long seed, int n) {
@@ -420,6 +432,45 @@ void bind_native(py::module_& parent) {
         s.push(u.data(), y.data());
         return y;
       });
+
+  // Measurement stages after the sensor model (sil/legged_sensor_stages.hpp): the native loop
+  // runs them from Rollout(stages=[...]), the per-tick Python loop through apply(t, y); each
+  // run must have its own (they carry state and random streams).
+  {
+    const ImuModelConfig d;  // BMI088 defaults: one place for both loops' settings
+    py::dict defaults;
+    defaults["gyro"] = py::make_tuple(d.gyro.noise_density, d.gyro.bias_random_walk, d.gyro.turn_on_bias);
+    defaults["accel"] = py::make_tuple(d.accel.noise_density, d.accel.bias_random_walk, d.accel.turn_on_bias);
+    m.attr("imu_defaults") = defaults;
+  }
+  py::class_<ImuStage, SensorStage, std::shared_ptr<ImuStage>>(
+      m, "ImuStage", "MEMS IMU errors on y[offset:offset+6] = [gyro; accel] (cpp/sil/imu_model.hpp)")
+      .def(py::init([](int offset, std::array<double, 3> gyro, std::array<double, 3> accel, double dt,
+                       unsigned long long seed) {
+             auto s = std::make_shared<ImuStage>();
+             std::string why;
+             const ImuModelConfig c{InertialNoise{gyro[0], gyro[1], gyro[2]},
+                                    InertialNoise{accel[0], accel[1], accel[2]}, dt, seed};
+             if (!s->setup(c, offset, &why)) throw py::value_error(why);
+             return s;
+           }),
+           py::arg("offset"), py::arg("gyro"), py::arg("accel"), py::arg("dt"), py::arg("seed"),
+           "gyro, accel: (noise density, bias random walk, turn-on bias sigma) each")
+      .def_property_readonly("bias", [](const ImuStage& s) {
+        return Eigen::VectorXd(Eigen::Map<const Eigen::VectorXd>(s.model().bias(), ImuModel::kSize));
+      });
+  py::class_<JointEncoderStage, SensorStage, std::shared_ptr<JointEncoderStage>>(
+      m, "JointEncoderStage", "encoder-difference joint velocity, then q quantized")
+      .def(py::init([](int n, int q_offset, int qd_offset, double q_resolution, double velocity_resolution,
+                       double dt) {
+             auto s = std::make_shared<JointEncoderStage>();
+             std::string why;
+             if (!s->setup(n, q_offset, qd_offset, q_resolution, velocity_resolution, dt, &why))
+               throw py::value_error(why);
+             return s;
+           }),
+           py::arg("n"), py::arg("q_offset"), py::arg("qd_offset"), py::arg("q_resolution"),
+           py::arg("velocity_resolution"), py::arg("dt"));
 #endif
 }
 

@@ -14,8 +14,17 @@ void bind_quadruped(py::module_& m) {
       .def_readwrite("force_off", &ContactConfig::force_off)
       .def_readwrite("early_touchdown", &ContactConfig::early_touchdown)
       .def_readwrite("touchdown_clearance", &ContactConfig::touchdown_clearance);
+  py::class_<AttitudeFilterConfig>(m, "AttitudeFilterConfig")
+      .def(py::init<>())
+      .def_readwrite("gyro_noise_density", &AttitudeFilterConfig::gyro_noise_density)
+      .def_readwrite("accel_noise_density", &AttitudeFilterConfig::accel_noise_density)
+      .def_readwrite("crossover", &AttitudeFilterConfig::crossover)
+      .def_readwrite("accel_tolerance", &AttitudeFilterConfig::accel_tolerance)
+      .def_readwrite("max_gyro_bias", &AttitudeFilterConfig::max_gyro_bias);
   py::class_<EstimatorConfig>(m, "EstimatorConfig")
       .def(py::init<>())
+      .def_readwrite("external_attitude", &EstimatorConfig::external_attitude)
+      .def_readwrite("attitude", &EstimatorConfig::attitude)
       .def_readwrite("attitude_gain", &EstimatorConfig::attitude_gain)
       .def_readwrite("accel_noise", &EstimatorConfig::accel_noise)
       .def_readwrite("leg_velocity_noise", &EstimatorConfig::leg_velocity_noise)

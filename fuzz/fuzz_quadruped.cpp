@@ -1,5 +1,7 @@
 // QuadrupedController through its public API only (cpp/include/kiloloop/quadruped), standing and
 // trotting on good sensor data with corruptions mixed in. Fixed-size vectors: no size mutations.
+// Each run (between reconfigures) uses the controller's own attitude filter or, at random, an
+// external AHRS (estimator.external_attitude): the quaternion input counts only in the latter.
 #include <cmath>
 #include <cstring>
 
@@ -34,6 +36,7 @@ Tally fuzz_quadruped(std::uint64_t seed, std::uint64_t inputs, volatile std::uin
     ++tally.inputs;
     desc.clear();
     if (k % 3000 == 2999 || (stamps.has_newest && stamps.newest > clock.t + 1.0)) {
+      config.estimator.external_attitude = r.chance(0.5);
       QuadrupedController::configure(config, model, &ctrl, &why);  // a new run
       out = QuadrupedOutput{};
       stamps.reset();
@@ -92,8 +95,10 @@ Tally fuzz_quadruped(std::uint64_t seed, std::uint64_t inputs, volatile std::uin
           break;
       }
     }
+    const bool external = config.estimator.external_attitude;
     const bool meas_ok = in.q.allFinite() && in.qd.allFinite() && in.gyro.allFinite() &&
-                         in.accel.allFinite() && in.quat.allFinite() && stamps.fresh(in.t, in.stamp);
+                         in.accel.allFinite() && (!external || in.quat.allFinite()) &&
+                         stamps.fresh(in.t, in.stamp);
     const bool cmd_ok = in.velocity_command.allFinite() && !gait_bad &&
                         (!in.use_ground_truth ||
                          (in.true_position.allFinite() && in.true_velocity.allFinite() && in.true_quat.allFinite()));
@@ -102,10 +107,10 @@ Tally fuzz_quadruped(std::uint64_t seed, std::uint64_t inputs, volatile std::uin
     const Status s = ctrl.step(in, out);
     // A measurement the controller must not use does not count for the order rule: one beyond
     // the sanity bound (|x| > 1e6, a clock beyond 1e9 s: control/sane_range.hpp), a quaternion
-    // far from unit norm, unusable ground truth.
+    // far from unit norm (external attitude only), unusable ground truth.
     auto sane = [](const auto& v) { return v.allFinite() && v.cwiseAbs().maxCoeff() <= 1e6; };
     const bool used = meas_ok && std::abs(in.t) <= 1e9 && sane(in.q) && sane(in.qd) && sane(in.gyro) &&
-                      sane(in.accel) && sane(in.quat) && in.quat.norm() > 0.5 &&
+                      sane(in.accel) && (!external || (sane(in.quat) && in.quat.norm() > 0.5)) &&
                       (!in.use_ground_truth || (sane(in.true_position) && sane(in.true_velocity) &&
                                                 sane(in.true_quat) && in.true_quat.norm() > 0.5));
     if (used) stamps.accept(in.stamp);
@@ -126,7 +131,8 @@ Tally fuzz_quadruped(std::uint64_t seed, std::uint64_t inputs, volatile std::uin
           {"wrench", out.wrench.allFinite()}, {"tilt", std::isfinite(out.tilt)}};
       for (const auto& f : fields)
         if (!f.ok) std::snprintf(which + std::strlen(which), sizeof(which) - std::strlen(which), " %s", f.name);
-      tally.fail(k, desc, &tally.bad_outputs, "non-finite output:%s (status %s)", which, to_string(s));
+      tally.fail(k, desc, &tally.bad_outputs, "non-finite output:%s (status %s, %s attitude)", which,
+                 to_string(s), external ? "external" : "own");
     }
     // A defect that persists would be counted on every later input: start a new run instead, so
     // that each count is one input that broke the controller.

@@ -54,6 +54,16 @@ def test_trot_with_push_native_equals_python_loop():
     assert vy[850] - vy[799] > 0.05
 
 
+@pytest.mark.parametrize("ideal", ["true", "false"])
+def test_both_sensor_paths_native_equal_python_loop(ideal):
+    """Realistic sensors (C++ IMU and encoder stages, the controller's own attitude) and ideal
+    ones (white noise, the plant's orientation as an AHRS): one implementation, one log."""
+    logs = [rig(seed=5, ideal_sensors=ideal).run(0.6, trot_command(0.5, 0.2), native=n)
+            for n in (True, False)]
+    assert_same_log(*logs)
+    assert len(logs[0]["t"]) == 600
+
+
 def test_scenario_native_equals_python_loop():
     fast = scenarios.run_named("quadruped-push", duration=3.0)  # the push at 2 s, recovery
     slow = scenarios.run_named("quadruped-push", overrides={"native": "false"}, duration=3.0)

@@ -21,6 +21,7 @@ void QuadrupedAdapter::declare(LogBuffer& log) {
   ch_status_ = log.declare("status", {});
   ch_est_pos_ = log.declare("est_pos", {3});
   ch_est_vel_ = log.declare("est_vel", {3});
+  ch_est_quat_ = log.declare("est_quat", {4});  // the controller's orientation estimate (w, x, y, z)
   ch_tilt_ = log.declare("tilt", {});
   ch_safe_stop_ = log.declare("safe_stop", {});
   ch_contact_ = log.declare("contact", {4});
@@ -53,6 +54,7 @@ int QuadrupedAdapter::step(double t, double stamp, const double* y, double* u, L
   *log.row(ch_status_, k) = status;
   store(out_.position, log.row(ch_est_pos_, k));
   store(out_.velocity, log.row(ch_est_vel_, k));
+  store(out_.quat, log.row(ch_est_quat_, k));
   *log.row(ch_tilt_, k) = out_.tilt;
   *log.row(ch_safe_stop_, k) = out_.safe_stop ? 1.0 : 0.0;
   store(out_.contact, log.row(ch_contact_, k));

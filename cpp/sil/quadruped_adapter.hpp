@@ -36,7 +36,7 @@ class QuadrupedAdapter final : public Adapter {
   std::array<int, kJoints> to_ctrl_;
   QuadrupedInput in_;
   QuadrupedOutput out_;
-  int ch_status_ = 0, ch_est_pos_ = 0, ch_est_vel_ = 0, ch_tilt_ = 0, ch_safe_stop_ = 0, ch_contact_ = 0,
+  int ch_status_ = 0, ch_est_pos_ = 0, ch_est_vel_ = 0, ch_est_quat_ = 0, ch_tilt_ = 0, ch_safe_stop_ = 0, ch_contact_ = 0,
       ch_scheduled_ = 0, ch_clearance_ = 0, ch_tau_ = 0, ch_force_cmd_ = 0, ch_v_cmd_ = 0, ch_qp_ = 0;
 };
 

@@ -22,14 +22,16 @@ constexpr double kGravity = 9.81;
 // The measured signals the controller uses finite and within_sane_range (control/sane_range.hpp:
 // a finite value beyond it, such as 1e308, can only be a fault and would overflow the estimate
 // and the wrench); the clock within kSaneTime (t = 1e308 overflowed the gait phase); the
-// simulator's state only where it replaces the estimate (use_ground_truth).
-bool measurement_usable(const QuadrupedInput& in) {
+// simulator's state only where it replaces the estimate (use_ground_truth); the AHRS quaternion
+// only where it is used (estimator.external_attitude).
+bool measurement_usable(const QuadrupedInput& in, bool external_attitude) {
   const bool truth_ok = !in.use_ground_truth ||
                         (within_sane_range(in.true_position) && within_sane_range(in.true_velocity) &&
                          within_sane_range(in.true_quat) && in.true_quat.norm() > 0.5);
+  const bool quat_ok = !external_attitude || (within_sane_range(in.quat) && in.quat.norm() > 0.5);
   return std::abs(in.t) <= kSaneTime && within_sane_range(in.q) && within_sane_range(in.qd) &&
-         within_sane_range(in.gyro) && within_sane_range(in.accel) && within_sane_range(in.quat) &&
-         in.quat.norm() > 0.5 && within_sane_range(in.foothold_offset) && truth_ok;
+         within_sane_range(in.gyro) && within_sane_range(in.accel) && quat_ok &&
+         within_sane_range(in.foothold_offset) && truth_ok;
 }
 
 Eigen::Quaterniond to_quat(const Eigen::Vector4d& wxyz) {
@@ -287,6 +289,8 @@ Status QuadrupedController::configure(const QuadrupedConfig& config, RobotModelP
   EstimatorConfig est = cfg.estimator;
   est.dt = cfg.dt;
   if (failed(c.estimator_.configure(est, why))) return Status::kInvalidConfig;
+  cfg.estimator = c.estimator_.config();  // the attitude crossover resolved
+  cfg.estimator.dt = config.estimator.dt;
   Status s = StanceForceQp::configure(cfg.force, &c.force_qp_, why);
   if (failed(s)) return s;
   for (int i = 0; i < kLegs; ++i) c.q_leg_valid_[i] = c.stand_q_.segment<3>(3 * i);
@@ -360,7 +364,7 @@ bool QuadrupedController::read_inputs(const QuadrupedInput& in, QuadrupedOutput&
   // Stamp finite, fresh and not older than one already used (control/rules.hpp), then the
   // signals usable; only a tick that goes on to use its measurement counts for the order.
   k.status = gate_.check(in.t, in.stamp);
-  if (k.status == Status::kOk && !measurement_usable(in)) k.status = Status::kNonFiniteMeasurement;
+  if (k.status == Status::kOk && !measurement_usable(in, cfg_.estimator.external_attitude)) k.status = Status::kNonFiniteMeasurement;
   if (failed(k.status)) {
     if (have_output_) out.tau = tau_prev_;
     else safe_output(in, out.tau);
@@ -382,8 +386,13 @@ bool QuadrupedController::read_inputs(const QuadrupedInput& in, QuadrupedOutput&
 // 2. Leg kinematics in the trunk frame.
 void QuadrupedController::leg_kinematics(const QuadrupedInput& in) noexcept {
   Tick& k = tick_;
-  k.q_imu = to_quat(in.quat);
-  const Eigen::Vector3d g_trunk = k.q_imu.conjugate() * Eigen::Vector3d(0, 0, -kGravity);
+  // The orientation this stage works with: the AHRS's, or the estimate of the last tick (the
+  // estimator runs after the contacts it needs), or on the first tick the accelerometer's tilt.
+  k.q_imu = cfg_.estimator.external_attitude ? to_quat(in.quat) : Eigen::Quaterniond::Identity();
+  if (cfg_.estimator.external_attitude) k.q_prior = k.q_imu;
+  else if (estimator_.initialised()) k.q_prior = estimator_.orientation();
+  else k.q_prior = estimator_.initial_orientation(in.accel, k.q_imu);
+  const Eigen::Vector3d g_trunk = k.q_prior.conjugate() * Eigen::Vector3d(0, 0, -kGravity);
   for (int i = 0; i < kLegs; ++i) {
     const Eigen::Vector3d q = in.q.segment<3>(3 * i);
     k.meas[i].r = legs_[i].foot_position(q);
@@ -394,16 +403,16 @@ void QuadrupedController::leg_kinematics(const QuadrupedInput& in) noexcept {
   // A spherical foot rolls: its contact point (radius below the centre, along the ground normal)
   // stands still, not its centre. Add the rolling term to what the estimator takes as the
   // stance-foot velocity: v_rel = J qd + (w_shank + w_trunk) x c, c = contact point - centre.
-  const Eigen::Vector3d c = -cfg_.foot_radius * (k.q_imu.conjugate() * estimator_.ground_normal());
+  const Eigen::Vector3d c = -cfg_.foot_radius * (k.q_prior.conjugate() * estimator_.ground_normal());
   for (int i = 0; i < kLegs; ++i) {
     const Eigen::Vector3d& sg = legs_[i].geometry().sign;
     const double q0 = sg[0] * in.q[3 * i];
     const double pitch_rate = sg[1] * in.qd[3 * i + 1] + sg[2] * in.qd[3 * i + 2];
     const Eigen::Vector3d w_shank(sg[0] * in.qd[3 * i], std::cos(q0) * pitch_rate, std::sin(q0) * pitch_rate);
-    k.meas[i].v_rel += (w_shank + in.gyro).cross(c);
+    k.meas[i].v_rel += (w_shank + in.gyro - estimator_.gyro_bias()).cross(c);
   }
   if (!estimator_.initialised()) {
-    estimator_.reset(k.q_imu, k.meas, cfg_.foot_radius);
+    estimator_.reset(k.q_prior, k.meas, cfg_.foot_radius);
     p_des_ = estimator_.position();
     yaw_des_ = yaw_of(estimator_.orientation());
   }

@@ -186,6 +186,8 @@ TEST(QuadrupedController, EstimatorConfigIsValidatedWithAClearReason) {
       {[](EstimatorConfig& e) { e.leg_velocity_noise = -1.0; }, "leg_velocity_noise"},
       {[](EstimatorConfig& e) { e.foothold_noise = std::numeric_limits<double>::infinity(); }, "foothold_noise"},
       {[](EstimatorConfig& e) { e.ground_filter = -0.1; }, "ground_filter"},
+      {[](EstimatorConfig& e) { e.attitude.gyro_noise_density = 0.0; }, "gyro_noise_density"},
+      {[](EstimatorConfig& e) { e.attitude.max_gyro_bias = -1.0; }, "max_gyro_bias"},
   };
   for (const Case& k : cases) {
     EstimatorConfig e;
@@ -203,6 +205,22 @@ TEST(QuadrupedController, EstimatorConfigIsValidatedWithAClearReason) {
       EXPECT_NE(why.find(k.word), std::string::npos) << why;
     }
   }
+}
+
+// The AHRS quaternion is an input only with estimator.external_attitude; then it is checked.
+TEST(QuadrupedController, QuaternionCountsOnlyWhenAnExternalAhrsIsUsed) {
+  QuadrupedController own = make_controller();
+  QuadrupedInput in = standing_input(own);
+  QuadrupedOutput out;
+  in.quat.setConstant(std::numeric_limits<double>::quiet_NaN());
+  EXPECT_TRUE(ok(own.step(in, out)));
+  QuadrupedController ahrs;
+  QuadrupedConfig config;
+  config.body_height = 0.3308;
+  config.estimator.external_attitude = true;
+  std::string why;
+  ASSERT_EQ(QuadrupedController::configure(config, quadruped_model(), &ahrs, &why), Status::kOk) << why;
+  EXPECT_EQ(ahrs.step(in, out), Status::kNonFiniteMeasurement);
 }
 
 // Time going backwards (a stamp older than one already used) is stale: control/rules.hpp's
@@ -225,16 +243,16 @@ TEST(QuadrupedController, TiltBeyondTheLimitTripsTheSafeStopInTheSameTick) {
   QuadrupedInput in = standing_input(c);
   QuadrupedOutput out;
   c.step(in, out);
-  // Roll 20 deg, reported by the IMU and by the gyro integration alike.
+  // Roll 20 deg: the first tick's attitude comes from the accelerometer's gravity direction.
   const double a = 20.0 * M_PI / 180.0;
   QuadrupedController fresh = make_controller();
-  in.quat << std::cos(a / 2), std::sin(a / 2), 0.0, 0.0;
+  in.accel << 0.0, 9.81 * std::sin(a), 9.81 * std::cos(a);
   EXPECT_EQ(fresh.step(in, out), Status::kSafeStop);
   EXPECT_TRUE(out.safe_stop);
   EXPECT_TRUE(out.tau.allFinite());
-  // Latched: level again (the attitude estimate follows the IMU: 20 -> 4 deg in 0.3 s), still stopped
-  // until reset.
-  in.quat << 1, 0, 0, 0;
+  // Latched: level again (the attitude filter, just started, averages the gravity directions it
+  // has seen: 20 deg -> about 0.1 deg in 0.3 s), still stopped until reset.
+  in.accel << 0.0, 0.0, 9.81;
   for (int k = 1; k <= 300; ++k) {
     in.t = in.stamp = k * 0.001;
     EXPECT_EQ(fresh.step(in, out), Status::kSafeStop);

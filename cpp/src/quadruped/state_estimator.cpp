@@ -9,6 +9,10 @@
 namespace kiloloop {
 namespace {
 const Eigen::Vector3d kGravity(0.0, 0.0, -9.81);
+Status fail_attitude(std::string* why) {  // validate() passed: cannot happen, kept as a guard
+  if (why) *why = "estimator: attitude filter refused its settings";
+  return Status::kInvalidConfig;
+}
 }  // namespace
 
 Status validate(const EstimatorConfig& c, std::string* why) {
@@ -25,6 +29,14 @@ Status validate(const EstimatorConfig& c, std::string* why) {
     return fail("accel_noise [m/s^2], leg_velocity_noise [m/s], foothold_noise [m] must be finite and > 0");
   if (!(c.ground_filter >= 0 && c.ground_filter <= 1))
     return fail("ground_filter must be in [0, 1] (per touch-down weight)");
+  const AttitudeFilterConfig& a = c.attitude;
+  if (!(std::isfinite(a.gyro_noise_density) && a.gyro_noise_density > 0) ||
+      !(std::isfinite(a.accel_noise_density) && a.accel_noise_density > 0) ||
+      !(std::isfinite(a.accel_tolerance) && a.accel_tolerance > 0) ||
+      !(std::isfinite(a.crossover) && a.crossover >= 0) ||
+      !(std::isfinite(a.max_gyro_bias) && a.max_gyro_bias >= 0))
+    return fail("attitude: gyro_noise_density, accel_noise_density, accel_tolerance must be finite "
+                "and > 0; crossover (0: derived), max_gyro_bias finite and >= 0");
   return Status::kOk;
 }
 
@@ -32,13 +44,22 @@ Status StateEstimator::configure(const EstimatorConfig& config, std::string* why
   if (const Status s = validate(config, why); failed(s)) return s;
   cfg_ = config;
   initialised_ = false;
+  if (!attitude_.configure(config.attitude, config.dt)) return fail_attitude(why);
+  cfg_.attitude = attitude_.config();
   return Status::kOk;
 }
 
-void StateEstimator::reset(const Eigen::Quaterniond& q_imu,
+Eigen::Quaterniond StateEstimator::initial_orientation(const Eigen::Vector3d& accel,
+                                                       const Eigen::Quaterniond& q_imu) const noexcept {
+  return cfg_.external_attitude ? q_imu.normalized() : AttitudeFilter::from_gravity(accel);
+}
+
+void StateEstimator::reset(const Eigen::Quaterniond& q0,
                            const std::array<LegMeasurement, kLegs>& legs, double foot_radius) {
   foot_radius_ = foot_radius;
-  q_ = q_imu.normalized();
+  q_ = q0.normalized();
+  attitude_.reset(q_);
+  omega_.setZero();
   const Eigen::Matrix3d R = q_.toRotationMatrix();
   // Put the trunk above the origin of x, y and let the lowest feet define the ground plane.
   double min_z = 0.0;
@@ -59,21 +80,16 @@ void StateEstimator::set_truth(const Eigen::Vector3d& p, const Eigen::Vector3d& 
   x_.head<3>() = p;
   x_.tail<3>() = v;
   q_ = q;
+  attitude_.reset(q);
 }
 
 Status StateEstimator::update(const Eigen::Vector3d& gyro, const Eigen::Vector3d& accel,
                               const Eigen::Quaterniond& q_imu,
                               const std::array<LegMeasurement, kLegs>& legs) noexcept {
   const double dt = cfg_.dt;
-  // Orientation: integrate the gyro, then pull toward the IMU's orientation output.
-  omega_ = gyro;
-  const Eigen::Vector3d half = 0.5 * dt * gyro;
-  const Eigen::Quaterniond dq(1.0, half.x(), half.y(), half.z());
-  q_ = (q_ * dq).normalized();
-  Eigen::Quaterniond target = q_imu;
-  if (q_.dot(target) < 0.0) target.coeffs() = -target.coeffs();  // same hemisphere
-  q_ = q_.slerp(cfg_.attitude_gain, target).normalized();
+  update_orientation(gyro, accel, q_imu);
   const Eigen::Matrix3d R = q_.toRotationMatrix();
+  aligning_ = !cfg_.external_attitude && attitude_.aligning();
 
   // Predict with the accelerometer's specific force.
   const Eigen::Vector3d a = R * accel + kGravity;
@@ -93,7 +109,7 @@ Status StateEstimator::update(const Eigen::Vector3d& gyro, const Eigen::Vector3d
   Eigen::Vector3d p_sum = Eigen::Vector3d::Zero(), v_sum = Eigen::Vector3d::Zero();
   for (int i = 0; i < kLegs; ++i) {
     const LegMeasurement& leg = legs[i];
-    if (leg.touched_down) foothold_latched_[i] = false;
+    if (leg.touched_down || (aligning_ && leg.contact)) foothold_latched_[i] = false;
     if (!leg.contact) continue;
     const double w = std::clamp(leg.trust, 0.0, 1.0);
     if (!foothold_latched_[i]) {
@@ -140,6 +156,24 @@ Status StateEstimator::update(const Eigen::Vector3d& gyro, const Eigen::Vector3d
   return Status::kOk;
 }
 
+void StateEstimator::update_orientation(const Eigen::Vector3d& gyro, const Eigen::Vector3d& accel,
+                                        const Eigen::Quaterniond& q_imu) noexcept {
+  if (!cfg_.external_attitude) {
+    attitude_.update(gyro, accel);
+    q_ = attitude_.orientation();
+    omega_ = attitude_.rate();
+    return;
+  }
+  // External AHRS: integrate the gyro, then pull toward the AHRS's orientation output.
+  omega_ = gyro;
+  const Eigen::Vector3d half = 0.5 * cfg_.dt * gyro;
+  const Eigen::Quaterniond dq(1.0, half.x(), half.y(), half.z());
+  q_ = (q_ * dq).normalized();
+  Eigen::Quaterniond target = q_imu;
+  if (q_.dot(target) < 0.0) target.coeffs() = -target.coeffs();  // same hemisphere
+  q_ = q_.slerp(cfg_.attitude_gain, target).normalized();
+}
+
 void StateEstimator::fit_ground() noexcept {
   // Least squares z = a + b x + c y through the four footholds (foot centres), then shifted down
   // by the foot radius along the normal to the ground surface.
@@ -154,7 +188,7 @@ void StateEstimator::fit_ground() noexcept {
   if (!sol.allFinite()) return;
   Eigen::Vector3d n(-sol[1], -sol[2], 1.0);
   n.normalize();
-  const double w = initialised_ ? cfg_.ground_filter : 1.0;
+  const double w = initialised_ && !aligning_ ? cfg_.ground_filter : 1.0;
   normal_ = ((1.0 - w) * normal_ + w * n).normalized();
   plane_ = (1.0 - w) * plane_ + w * Eigen::Vector3d(sol[0] - foot_radius_ / n.z(), sol[1], sol[2]);
 }

@@ -6,8 +6,10 @@ Two loops, one log: by default the closed loop runs in C++ (sil/native.py, cpp/s
 quadruped_adapter.hpp) when the command is a CommandSchedule, the events are Push-es and the stop
 condition a FellBelow (all data); otherwise, or with native=False, video or ground truth, it runs
 per tick in Python. Both call the same C++ sensor model (noise, quantization: one normal per
-element of y = [q; qd; gyro; accel; quat] per tick from the seed's xoshiro stream) and motor model
-(transport delay, saturation), so they give the same log (tests/test_native_quadruped.py).
+element of y = [q; qd; gyro; accel; quat] per tick from the seed's xoshiro stream), the same C++
+measurement stages (realistic sensors, sil/legged_sensors.py: MEMS IMU with bias, encoder-difference
+joint velocity) and motor model (transport delay, saturation), so they give the same log
+(tests/test_native_quadruped.py).
 """
 from __future__ import annotations
 
@@ -21,6 +23,7 @@ import kiloloop as kl
 
 from . import native as native_loop
 from .floating_plant import FloatingBasePlant
+from .legged_sensors import LeggedSensorSettings, stages as sensor_stages
 from .log import SignalLog
 from .nonideal import NonIdealities
 
@@ -33,6 +36,8 @@ class RigSettings:
     slope_deg: float = 0.0
     physics_dt: float = 0.001
     nonideal: NonIdealities = field(default_factory=NonIdealities)
+    # Realistic sensors unless sensors.ideal (only with nonideal.enabled; sil/legged_sensors.py).
+    sensors: LeggedSensorSettings = field(default_factory=LeggedSensorSettings)
     ground_truth: bool = False     # controller runs on the simulator's state (debugging only)
     config: object = None          # kl.QuadrupedConfig; None = from the robot file
     video: str | None = None       # MP4 path: render the run
@@ -111,17 +116,23 @@ class QuadrupedSignals:
     """The quadruped's sensor and motor models over the flat signal vectors both loops share:
     y = [q (12); qd (12); gyro (3); accel (3); quat (4)] (plant joint order), u = tau (12)."""
 
-    def __init__(self, nonideal: NonIdealities, seed: int, effort: np.ndarray):
+    def __init__(self, nonideal: NonIdealities, seed: int, effort: np.ndarray,
+                 sensors: LeggedSensorSettings | None = None):
         nonideal.validate()
         if nonideal.enabled and (nonideal.quat_sigma > 0 or nonideal.velocity_from_encoder_diff):
             raise ValueError("quadruped rig: quat_sigma and velocity_from_encoder_diff are not "
-                             "modelled by the C++ sensor path (an IMU model stage will carry them)")
+                             "modelled; realistic sensors (sil/legged_sensors.py) are the default")
         on = nonideal.enabled
+        self.sensors = sensors if sensors is not None else LeggedSensorSettings()
+        # Realistic: the stages own the IMU and the encoders (the sensor model stays identity).
+        self.realistic = on and not self.sensors.ideal
+        self.encoder_resolution = nonideal.encoder_resolution if on else 0.0
         self.seed = int(seed) if seed is not None else 0
+        white = on and not self.realistic and (nonideal.gyro_sigma > 0 or nonideal.accel_sigma > 0)
         self.sigma = ([0.0] * 2 * JOINTS + [nonideal.gyro_sigma] * 3 + [nonideal.accel_sigma] * 3
-                      + [0.0] * 4) if on and (nonideal.gyro_sigma > 0 or nonideal.accel_sigma > 0) else []
+                      + [0.0] * 4) if white else []
         self.quantum = ([nonideal.encoder_resolution] * JOINTS + [0.0] * (JOINTS + 10)
-                        if on and nonideal.encoder_resolution > 0 else [])
+                        if on and not self.realistic and nonideal.encoder_resolution > 0 else [])
         # Whole ticks, half up, as nonideal.MotorDelay.
         self.motor_delay_ticks = (int(math.floor(nonideal.motor_delay / CONTROL_DT + 0.5 + 1e-9))
                                   if on else 0)
@@ -129,6 +140,14 @@ class QuadrupedSignals:
 
     def sensor(self):
         return native_loop._native.SensorModel(self.sigma, self.quantum, self.seed, 2 * JOINTS + 10)
+
+    def stages(self, seed: int | None = None) -> list:
+        """Fresh measurement stages for one run (each run owns its own: state, random stream)."""
+        if not self.realistic:
+            return []
+        return sensor_stages(self.sensors, joints=JOINTS, imu_offset=2 * JOINTS,
+                             encoder_resolution=self.encoder_resolution,
+                             seed=self.seed if seed is None else int(seed), control_dt=CONTROL_DT)
 
     def motor(self):
         return native_loop._native.MotorModel(self.motor_delay_ticks, 0.0, CONTROL_DT, JOINTS,
@@ -146,6 +165,12 @@ class QuadrupedRig:
         config = (settings.config if settings.config is not None
                   else controller_config(self.robot, actuation_delay=delay))
         config.dt = CONTROL_DT
+        # Realistic sensors: no orientation from the plant, the controller's attitude filter
+        # estimates it from gyro + accelerometer. Ideal: the plant's as an exact external AHRS.
+        realistic = settings.nonideal.enabled and not settings.sensors.ideal
+        estimator = config.estimator
+        estimator.external_attitude = not realistic
+        config.estimator = estimator
         # The safe-stop tilt is measured from vertical; on a slope the trunk starts tilted by it
         # (15 deg would trip the default 15 deg at once; measured: with it raised by the slope
         # both robots stand on 15 deg).
@@ -166,7 +191,7 @@ class QuadrupedRig:
         self.to_ctrl = np.array([plant_index[n] for n in self.controller.joint_names])
         self.to_plant = np.argsort(self.to_ctrl)
         self.effort = np.asarray(self.controller.effort_limit)[self.to_plant]
-        self.signals = QuadrupedSignals(settings.nonideal, seed, self.effort)
+        self.signals = QuadrupedSignals(settings.nonideal, seed, self.effort, settings.sensors)
         self.substeps = max(1, round(CONTROL_DT / self.plant.timestep))
         self.input, self.output = kl.QuadrupedInput(), kl.QuadrupedOutput()
 
@@ -215,7 +240,8 @@ class QuadrupedRig:
             measurement=self.measurement_addresses(), actuators=[int(a) for a in p._act],
             sigma=s.sigma, quantum=s.quantum, seed=s.seed if seed is None else int(seed),
             motor_delay_ticks=s.motor_delay_ticks, motor_limit=s.motor_limit,
-            events=command.reference_events() + forces, probes=self.native_probes(), stop=stop)
+            events=command.reference_events() + forces, probes=self.native_probes(), stop=stop,
+            stages=s.stages(seed))
 
     def measurement_addresses(self) -> list[int]:
         p, imu = self.plant, self.plant._imu_adr
@@ -251,7 +277,9 @@ class QuadrupedRig:
 
     def _loop(self, duration, command, pending, log, stop_when, recorder):
         inp, out, plant = self.input, self.output, self.plant
-        sensor, motor = self.signals.sensor(), self.signals.motor()
+        sensor, motor, stages = self.signals.sensor(), self.signals.motor(), self.signals.stages()
+        for stage in stages:
+            stage.configure(2 * JOINTS + 10)
         n = JOINTS
         for k in range(int(round(duration / CONTROL_DT))):
             t = k * CONTROL_DT
@@ -260,6 +288,8 @@ class QuadrupedRig:
             imu = plant.imu()
             y = sensor.apply(np.concatenate([plant.joint_q(), plant.joint_qd(), imu["gyro"],
                                              imu["accel"], imu["quat"]]))
+            for stage in stages:
+                y = stage.apply(t, y)
             inp.t = inp.stamp = t
             inp.q[:], inp.qd[:] = y[:n][self.to_ctrl], y[n:2 * n][self.to_ctrl]
             inp.gyro[:], inp.accel[:], inp.quat[:] = y[2 * n:2 * n + 3], y[2 * n + 3:2 * n + 6], y[2 * n + 6:]
@@ -289,6 +319,7 @@ class QuadrupedRig:
         log.record("base_omega", omega)
         log.record("est_pos", out.position)
         log.record("est_vel", out.velocity)
+        log.record("est_quat", out.quat)
         log.record("tilt", out.tilt)
         log.record("safe_stop", float(out.safe_stop))
         log.record("contact", out.contact)
@@ -310,11 +341,23 @@ def roll_pitch(quat_wxyz: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return roll, pitch
 
 
+_SENSORS = LeggedSensorSettings()
 # Settings every quadruped scenario accepts (`kiloloop run quadruped-... --set key=value`).
 COMMON_DEFAULTS = {
-    "nonideal": True,          # sensor noise, quantization, motor delay, saturation on
-    "gyro_sigma": 0.02,        # [rad/s]
-    "accel_sigma": 0.05,       # [m/s^2]
+    "nonideal": True,          # master switch: sensor models, motor delay, saturation on
+    # Sensors (sil/legged_sensors.py): realistic = MEMS IMU (Allan parameters below), no
+    # orientation handed over, encoder-difference joint velocity; ideal_sensors=true: the
+    # simulator's IMU, orientation and joint state with white noise (gyro_sigma, accel_sigma).
+    "ideal_sensors": _SENSORS.ideal,
+    "gyro_noise_density": _SENSORS.gyro_noise_density,          # [rad/s/sqrt(Hz)] BMI088
+    "gyro_bias_random_walk": _SENSORS.gyro_bias_random_walk,    # [rad/s^2/sqrt(Hz)]
+    "gyro_turn_on_bias": _SENSORS.gyro_turn_on_bias,            # [rad/s] 1 sigma
+    "accel_noise_density": _SENSORS.accel_noise_density,        # [m/s^2/sqrt(Hz)] BMI088
+    "accel_bias_random_walk": _SENSORS.accel_bias_random_walk,  # [m/s^3/sqrt(Hz)]
+    "accel_turn_on_bias": _SENSORS.accel_turn_on_bias,          # [m/s^2] 1 sigma
+    "velocity_resolution": _SENSORS.velocity_resolution,        # [rad] differentiated encoder
+    "gyro_sigma": 0.02,        # [rad/s] ideal_sensors only
+    "accel_sigma": 0.05,       # [m/s^2] ideal_sensors only
     "encoder_resolution_deg": 0.1,
     "motor_delay": 0.010,      # [s]
     "physics_dt": 0.001,       # [s]
@@ -330,8 +373,15 @@ def rig_from_settings(settings: dict, seed: int, slope_deg: float = 0.0, config=
                              encoder_resolution=float(np.deg2rad(settings["encoder_resolution_deg"])),
                              motor_delay=settings["motor_delay"])
     nonideal.validate()
+    sensors = LeggedSensorSettings(
+        ideal=bool(settings["ideal_sensors"]),
+        **{k: float(settings[k]) for k in ("gyro_noise_density", "gyro_bias_random_walk",
+                                           "gyro_turn_on_bias", "accel_noise_density",
+                                           "accel_bias_random_walk", "accel_turn_on_bias",
+                                           "velocity_resolution")})
     return QuadrupedRig(RigSettings(slope_deg=slope_deg, physics_dt=settings["physics_dt"],
-                                    nonideal=nonideal, ground_truth=settings["ground_truth"],
+                                    nonideal=nonideal, sensors=sensors,
+                                    ground_truth=settings["ground_truth"],
                                     config=config, video=settings.get("video"), terrain=terrain,
                                     native=bool(settings.get("native", True))),
                         seed=seed, robot=robot)
@@ -390,6 +440,24 @@ def trot_metrics(log, speed: float, since: float, fall_height: float = 0.15) -> 
         "mean_forward_velocity": float(np.mean(v[:, 0])),
         "distance_m": float(log["base_pos"][-1, 0] - log["base_pos"][0, 0]),
         "failed_ticks": int(np.sum(log["status"] < 0)),
+        **attitude_errors(log, since),
+    }
+
+
+def attitude_errors(log, since: float = 0.0) -> dict:
+    """RMS error [deg] of the controller's roll and pitch estimate against the simulator's, from
+    `since` [s] on (yaw is not observed without a magnetometer: its drift is reported apart)."""
+    k = log["t"] >= since
+    roll, pitch = roll_pitch(log["base_quat"][k])
+    roll_est, pitch_est = roll_pitch(log["est_quat"][k])
+    def yaw(q):
+        return np.unwrap(np.arctan2(2 * (q[:, 0] * q[:, 3] + q[:, 1] * q[:, 2]),
+                                    1 - 2 * (q[:, 2] ** 2 + q[:, 3] ** 2)))
+    yaw_error = yaw(log["est_quat"][k]) - yaw(log["base_quat"][k])
+    return {
+        "roll_estimate_rms_error_deg": float(np.degrees(np.sqrt(np.mean((roll_est - roll) ** 2)))),
+        "pitch_estimate_rms_error_deg": float(np.degrees(np.sqrt(np.mean((pitch_est - pitch) ** 2)))),
+        "yaw_estimate_drift_deg": float(np.degrees(yaw_error[-1] - yaw_error[0])) if yaw_error.size else 0.0,
     }
 
 

@@ -156,7 +156,8 @@ struct QuadrupedInput {
   Vector12d qd = Vector12d::Zero();   // [rad/s]
   Eigen::Vector3d gyro = Eigen::Vector3d::Zero();    // [rad/s] body frame
   Eigen::Vector3d accel = Eigen::Vector3d(0, 0, 9.81);  // [m/s^2] specific force, body frame
-  Eigen::Vector4d quat = Eigen::Vector4d(1, 0, 0, 0);   // IMU orientation w, x, y, z (world <- body)
+  // External AHRS orientation w, x, y, z (world <- body); read only with estimator.external_attitude.
+  Eigen::Vector4d quat = Eigen::Vector4d(1, 0, 0, 0);
   // Command.
   Gait gait = Gait::kStand;
   Eigen::Vector3d velocity_command = Eigen::Vector3d::Zero();  // [m/s, m/s, rad/s] vx, vy (heading frame), yaw rate
@@ -226,7 +227,8 @@ class QuadrupedController {
     Status status = Status::kOk;
     Eigen::Vector3d command = Eigen::Vector3d::Zero();  // [m/s, m/s, rad/s] validated command
     Gait requested = Gait::kStand;
-    Eigen::Quaterniond q_imu = Eigen::Quaterniond::Identity();
+    Eigen::Quaterniond q_imu = Eigen::Quaterniond::Identity();   // the AHRS input (external_attitude)
+    Eigen::Quaterniond q_prior = Eigen::Quaterniond::Identity(); // orientation before this tick's estimate
     std::array<LegMeasurement, kLegs> meas{};
     std::array<Eigen::Matrix3d, kLegs> J{};          // foot Jacobians, trunk frame
     std::array<Eigen::Vector3d, kLegs> tau_gravity{}; // [N m] per leg

@@ -1,7 +1,10 @@
 #pragma once
 // Trunk state estimate for a legged robot from the IMU and leg kinematics.
-//  - Orientation: complementary filter. The gyro is integrated every tick; the IMU's own
-//    orientation output pulls the estimate back with a small gain (it drifts less, is noisier).
+//  - Orientation (AttitudeFilter, attitude_filter.hpp): by default the controller's own
+//    explicit complementary filter on gyro + accelerometer, with gyro-bias estimation; yaw is
+//    not observed (no magnetometer) and drifts with the gyro's z bias. With external_attitude
+//    an external AHRS's quaternion is followed instead: the gyro is integrated and the estimate
+//    pulled toward the AHRS output by attitude_gain per tick.
 //  - Position and velocity: linear Kalman filter on x = [p; v] (world). Prediction uses the
 //    accelerometer (rotated to world, gravity removed); the correction uses legs in contact:
 //      velocity: a stance foot does not move, so v = -R (J qd + w x r) for each stance leg;
@@ -12,6 +15,11 @@
 //    trust). While trust < 1 the foothold follows the foot; it is latched when trust reaches 1.
 //  - Ground plane: least-squares plane through the four latest foothold positions, giving the
 //    ground normal (friction cones follow it on slopes) and the height of the ground under the trunk.
+//    While the own attitude filter is still aligning (AttitudeFilter::aligning: the first ~0.7 s)
+//    the stance footholds are not latched and the plane is refit unfiltered each tick: footholds
+//    latched with a start orientation that was off (measured: level, a drop's accelerometer reads
+//    0, on a 15 deg slope) kept the plane level for good, the friction cones wrong, and the robot
+//    slid 1.7 m down the slope in 5.5 s.
 // Fixed-size Eigen throughout: update() is noexcept and allocation-free.
 #include <array>
 #include <string>
@@ -19,13 +27,16 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
+#include "kiloloop/quadruped/attitude_filter.hpp"
 #include "kiloloop/status.hpp"
 
 namespace kiloloop {
 
 struct EstimatorConfig {
   double dt = 0.001;                 // [s]
-  double attitude_gain = 0.005;      // per tick pull toward the IMU orientation (0 = gyro only)
+  bool external_attitude = false;    // true: follow QuadrupedInput.quat (an external AHRS)
+  double attitude_gain = 0.005;      // external_attitude: per tick pull toward the AHRS (0 = gyro only)
+  AttitudeFilterConfig attitude;     // the own filter (external_attitude false)
   double accel_noise = 0.5;          // [m/s^2] process noise on the acceleration input
   double leg_velocity_noise = 0.05;  // [m/s] per-leg velocity measurement noise
   double foothold_noise = 0.01;      // [m] per-leg position measurement noise
@@ -33,7 +44,8 @@ struct EstimatorConfig {
 };
 
 // Finite; dt > 0; 0 <= attitude_gain <= 1 and 0 <= ground_filter <= 1 (per-tick blend weights);
-// accel_noise, leg_velocity_noise, foothold_noise > 0 (the Kalman filter divides by them). The
+// accel_noise, leg_velocity_noise, foothold_noise > 0 (the Kalman filter divides by them);
+// attitude: noise densities and accel_tolerance > 0, crossover and max_gyro_bias >= 0. The
 // reason in *why.
 Status validate(const EstimatorConfig& config, std::string* why);
 
@@ -50,10 +62,15 @@ class StateEstimator {
   static constexpr int kLegs = 4;
   // kInvalidConfig (why) unless validate(config) passes.
   Status configure(const EstimatorConfig& config, std::string* why);
-  // First call (or after reset): initialise orientation from the IMU and position from feet.
-  void reset(const Eigen::Quaterniond& q_imu, const std::array<LegMeasurement, kLegs>& legs,
+  const EstimatorConfig& config() const { return cfg_; }  // attitude crossover resolved
+  // The orientation a first call starts from: the AHRS's (external_attitude), else roll and
+  // pitch from the accelerometer's gravity direction, yaw 0.
+  Eigen::Quaterniond initial_orientation(const Eigen::Vector3d& accel, const Eigen::Quaterniond& q_imu) const noexcept;
+  // First call (or after reset): orientation q0 (initial_orientation) and position from feet.
+  void reset(const Eigen::Quaterniond& q0, const std::array<LegMeasurement, kLegs>& legs,
              double foot_radius);
-  // Returns kEstimatorDegraded when no leg was in contact (prediction only).
+  // Returns kEstimatorDegraded when no leg was in contact (prediction only). q_imu is read only
+  // with external_attitude.
   Status update(const Eigen::Vector3d& gyro, const Eigen::Vector3d& accel,
                 const Eigen::Quaterniond& q_imu, const std::array<LegMeasurement, kLegs>& legs) noexcept;
 
@@ -62,7 +79,8 @@ class StateEstimator {
   Eigen::Matrix3d rotation() const { return q_.toRotationMatrix(); }
   Eigen::Vector3d position() const { return x_.head<3>(); }   // world [m]
   Eigen::Vector3d velocity() const { return x_.tail<3>(); }   // world [m/s]
-  const Eigen::Vector3d& angular_velocity() const { return omega_; }  // body [rad/s]
+  const Eigen::Vector3d& angular_velocity() const { return omega_; }  // body [rad/s], bias removed
+  const Eigen::Vector3d& gyro_bias() const { return attitude_.gyro_bias(); }  // body [rad/s]
   const Eigen::Vector3d& ground_normal() const { return normal_; }
   double ground_height(double x, double y) const { return plane_[0] + plane_[1] * x + plane_[2] * y; }
   const Eigen::Vector3d& foothold(int leg) const { return footholds_[leg]; }
@@ -70,10 +88,14 @@ class StateEstimator {
   void set_truth(const Eigen::Vector3d& p, const Eigen::Vector3d& v, const Eigen::Quaterniond& q) noexcept;
 
  private:
+  void update_orientation(const Eigen::Vector3d& gyro, const Eigen::Vector3d& accel,
+                          const Eigen::Quaterniond& q_imu) noexcept;
   void fit_ground() noexcept;
 
   EstimatorConfig cfg_;
   bool initialised_ = false;
+  bool aligning_ = false;  // the own attitude filter in its start-up alignment
+  AttitudeFilter attitude_;
   Eigen::Quaterniond q_ = Eigen::Quaterniond::Identity();
   Eigen::Vector3d omega_ = Eigen::Vector3d::Zero();
   Eigen::Matrix<double, 6, 1> x_ = Eigen::Matrix<double, 6, 1>::Zero();

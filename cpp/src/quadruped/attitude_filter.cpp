@@ -1,0 +1,61 @@
+#include "kiloloop/quadruped/attitude_filter.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace kiloloop {
+namespace {
+constexpr double kGravity = 9.81;  // [m/s^2]
+}  // namespace
+
+bool AttitudeFilter::configure(const AttitudeFilterConfig& config, double dt) {
+  if (!(config.gyro_noise_density > 0) || !(config.accel_noise_density > 0) ||
+      !(config.crossover >= 0) || !(config.accel_tolerance > 0) || !(config.max_gyro_bias >= 0) ||
+      !(dt > 0) || !std::isfinite(config.crossover + config.gyro_noise_density +
+                                  config.accel_noise_density + config.accel_tolerance + config.max_gyro_bias + dt))
+    return false;
+  cfg_ = config;
+  if (cfg_.crossover == 0.0) cfg_.crossover = cfg_.gyro_noise_density * kGravity / cfg_.accel_noise_density;
+  dt_ = dt;
+  kp_ = cfg_.crossover;
+  ki_ = 0.25 * kp_ * kp_;
+  reset(Eigen::Quaterniond::Identity());
+  return true;
+}
+
+void AttitudeFilter::reset(const Eigen::Quaterniond& q0) noexcept {
+  q_ = q0.normalized();
+  bias_.setZero();
+  rate_.setZero();
+  aligned_time_ = 0.0;
+}
+
+Eigen::Quaterniond AttitudeFilter::from_gravity(const Eigen::Vector3d& accel) noexcept {
+  const double norm = accel.norm();
+  if (!std::isfinite(norm) || std::abs(norm - kGravity) > 0.5 * kGravity) return Eigen::Quaterniond::Identity();
+  const Eigen::Vector3d up = accel / norm;  // R^T e_z for R = Ry(pitch) Rx(roll)
+  const double roll = std::atan2(up.y(), up.z());
+  const double pitch = std::atan2(-up.x(), std::hypot(up.y(), up.z()));
+  return Eigen::Quaterniond(Eigen::AngleAxisd(pitch, Eigen::Vector3d::UnitY()) *
+                            Eigen::AngleAxisd(roll, Eigen::Vector3d::UnitX()));
+}
+
+void AttitudeFilter::update(const Eigen::Vector3d& gyro, const Eigen::Vector3d& accel) noexcept {
+  Eigen::Vector3d e = Eigen::Vector3d::Zero();
+  double w = 0.0;
+  const double norm = accel.norm();
+  if (norm > 1e-3 * kGravity && std::isfinite(norm)) {
+    w = std::clamp(1.0 - std::abs(norm - kGravity) / (cfg_.accel_tolerance * kGravity), 0.0, 1.0);
+    const Eigen::Vector3d up = q_.conjugate() * Eigen::Vector3d::UnitZ();
+    e = (accel / norm).cross(up);
+  }
+  aligned_time_ = std::min(aligned_time_ + w * dt_, 1e6);
+  const double kp = aligned_time_ > 0.0 ? std::min(std::max(kp_, 1.0 / aligned_time_), 1.0 / dt_) : kp_;
+  bias_ -= ki_ * w * dt_ * e;
+  bias_ = bias_.cwiseMax(-cfg_.max_gyro_bias).cwiseMin(cfg_.max_gyro_bias);
+  rate_ = gyro - bias_;
+  const Eigen::Vector3d half = 0.5 * dt_ * (rate_ + kp * w * e);
+  q_ = (q_ * Eigen::Quaterniond(1.0, half.x(), half.y(), half.z())).normalized();
+}
+
+}  // namespace kiloloop
