@@ -48,9 +48,11 @@ bench: build
 robot-matrix: build
 	$(BIN)/python scripts/robot_matrix.py | tee bench/robot_matrix.txt
 
-# Quadruped robot x scenario x delay table (minutes; not part of `make test`).
+# Quadruped robot x scenario x delay table (minutes; not part of `make test`), with the ideal
+# sensors (the scenarios' default) and with the realistic ones (ideal_sensors=false).
 matrix: build
 	$(BIN)/python -m kiloloop.bench.quadruped_matrix bench
+	$(BIN)/python -m kiloloop.bench.quadruped_matrix bench --realistic
 
 # The firmware path for our three robots: SIL log -> export -> firmware build (-fno-exceptions
 # -fno-rtti, build/firmware/) -> replay, bit for bit (docs/firmware.md).

@@ -1,7 +1,9 @@
 """Robot x scenario x delay table for the quadruped family (`make matrix`): every quadruped
 scenario on our model and on example-robot-data's Go1 (a minimal robot file: name, kind, urdf,
 package_dirs, [legs]), at the default 10 ms and at 35 ms motor delay. Prints a Markdown table and
-writes it (with the metrics as JSON) under bench/."""
+writes it (with the metrics as JSON) under bench/. `--realistic`: the same table with the realistic
+sensors (ideal_sensors=false: MEMS IMU with bias, the controller's own attitude filter,
+encoder-difference joint velocity), written as quadruped_matrix_realistic.{md,json}."""
 from __future__ import annotations
 
 import json
@@ -68,7 +70,11 @@ def _headline(name: str, m: dict) -> str:
 def main(argv=None) -> int:
     from .. import scenarios
 
+    argv = list(argv or [])
+    realistic = "--realistic" in argv
+    argv = [a for a in argv if a != "--realistic"]
     out_dir = Path(argv[0]) if argv else Path("bench")
+    stem = "quadruped_matrix_realistic" if realistic else "quadruped_matrix"
     rows, records = [], []
     with tempfile.TemporaryDirectory() as tmp:
         robots = [("quadruped", "quadruped")]
@@ -79,6 +85,8 @@ def main(argv=None) -> int:
             for name, extra in ROWS:
                 for delay in DELAYS:
                     sets = dict(extra, motor_delay=delay)
+                    if realistic:
+                        sets["ideal_sensors"] = "false"
                     t0 = time.perf_counter()
                     try:
                         r = scenarios.run_named(name, robot, sets, seed=0)
@@ -100,8 +108,8 @@ def main(argv=None) -> int:
     text = "\n".join(table) + "\n"
     print(text)
     out_dir.mkdir(parents=True, exist_ok=True)
-    (out_dir / "quadruped_matrix.md").write_text(text)
-    (out_dir / "quadruped_matrix.json").write_text(json.dumps(records, indent=1, default=float))
+    (out_dir / f"{stem}.md").write_text(text)
+    (out_dir / f"{stem}.json").write_text(json.dumps(records, indent=1, default=float))
     return 0
 
 
