@@ -2,12 +2,10 @@
 the default aerial manipulator, its native tick against raw mj_step replaying the commands the
 rotors and arm motors received in that run (same start state, same motion), the adapter +
 controller alone, real-time factors on one core and on all cores, the 8-rollout batch on 1 and 2
-threads, and the per-tick Python loop beside it. Same conventions as the arm and quadruped rows:
+threads, and the per-tick Python loop beside it. Same conventions and shared figure code as the arm and quadruped rows (native_bench.py):
 CPU time of the calling thread, least of REPEATS runs."""
 from __future__ import annotations
 
-import os
-import statistics
 import time
 
 import mujoco
@@ -15,7 +13,7 @@ import numpy as np
 
 import kiloloop as kl
 
-from .native_bench import BATCH, REPEATS
+from .native_bench import BATCH, REPEATS, batch_figures, python_figures, tick_figures
 
 
 def _setup():
@@ -38,19 +36,6 @@ def _rollouts(rig, command, table_fn, count: int, duration: float) -> list:
         adapter = rig.native_adapter(table, kl.AerialController(rig.model, rig.config))
         out.append(rig.native_rollout(duration, command, data=data, adapter=adapter, seed=seed))
     return out
-
-
-def _timed_batch(rig, command, table_fn, count, duration, threads, cpu: list | None = None) -> float:
-    from ..sil import batch
-
-    rollouts = _rollouts(rig, command, table_fn, count, duration)
-    cpu0, start = time.process_time(), time.perf_counter()
-    batch.run(rollouts, threads=threads)
-    wall = time.perf_counter() - start
-    if cpu is not None:
-        cpu.append(time.process_time() - cpu0)
-    assert all(r.ok for r in rollouts), [r.error for r in rollouts if not r.ok]
-    return wall
 
 
 def _applied_commands(rig, log: dict) -> np.ndarray:
@@ -87,7 +72,6 @@ def aerial_native(quick: bool) -> dict:
         native._native.step_raw(rig.plant.model, data, ticks, ctrl, actuators)
         raw_cpu.append(time.thread_time() - c0)
         raw_wall.append(time.perf_counter() - w0)
-    raw, tick = min(raw_cpu) / ticks, min(tick_cpu) / ticks
     # The adapter + controller alone on the start measurement (hovering, no physics).
     addr, source = rig.measurement()
     d = rig.plant.data
@@ -101,17 +85,7 @@ def aerial_native(quick: bool) -> dict:
         ctrl_cpu.append(time.thread_time() - c0)
     controller = min(ctrl_cpu) / ticks
 
-    cores = os.cpu_count() or 1
-    count = max(BATCH, 2 * cores)
-    all_cores = statistics.median(_timed_batch(rig, command, table_fn, count, duration, cores)
-                                  for _ in range(REPEATS))
-    cpu1: list = []
-    cpu2: list = []
-    t1 = statistics.median(_timed_batch(rig, command, table_fn, BATCH, duration, 1, cpu1)
-                           for _ in range(REPEATS))
-    load1 = os.getloadavg()[0]
-    t2 = statistics.median(_timed_batch(rig, command, table_fn, BATCH, duration, 2, cpu2)
-                           for _ in range(REPEATS))
+    batches = batch_figures(lambda n: _rollouts(rig, command, table_fn, n, duration), duration)
 
     py_duration = min(duration, 1.0)
     py_ticks = native.ticks_of(py_duration)
@@ -124,32 +98,7 @@ def aerial_native(quick: bool) -> dict:
 
     py_runs = [python_loop() for _ in range(REPEATS)]
     rig.plant.reset()
-    py_tick = min(c for c, _ in py_runs) / py_ticks
-    return {
-        "scenario": "aerial-hover",
-        "robot": rig.robot.name,
-        "sim_seconds": duration,
-        "ticks": ticks,
-        "physics_dt": rig.plant.timestep,
-        "raw_mj_step_us": raw * 1e6,
-        "tick_us": tick * 1e6,
-        "tick_over_mj_step": tick / raw,
-        "controller_step_us": controller * 1e6,
-        "loop_glue_us": (tick - raw - controller) * 1e6,
-        "tick_over_mj_step_wall": (min(tick_wall) / ticks) / (min(raw_wall) / ticks),
-        "real_time_factor": duration / (tick * ticks),
-        "real_time_factor_wall": duration / min(tick_wall),
-        "cores": cores,
-        "real_time_factor_all_cores": count * duration / all_cores,
-        "batch": BATCH,
-        "batch_1_thread_s": t1,
-        "batch_2_threads_s": t2,
-        "batch_speedup_2_over_1": t1 / t2,
-        "batch_1_thread_cpu_s": statistics.median(cpu1),
-        "batch_2_threads_cpu_s": statistics.median(cpu2),
-        "load_average_1min": 0.5 * (load1 + os.getloadavg()[0]),
-        "python_tick_us": py_tick * 1e6,
-        "python_tick_over_mj_step": py_tick / raw,
-        "python_real_time_factor": py_duration / (py_tick * py_ticks),
-        "python_real_time_factor_wall": py_duration / min(w for _, w in py_runs),
-    }
+    ticking = tick_figures(duration, ticks, 1, rig.plant.timestep, raw_cpu, raw_wall, tick_cpu,
+                           tick_wall, controller)
+    return {"scenario": "aerial-hover", "robot": rig.robot.name, **ticking, **batches,
+            **python_figures(py_runs, py_duration, py_ticks, ticking["raw_mj_step_us"])}

@@ -59,13 +59,12 @@ def _rollouts(rig, traj, make, count: int, duration: float) -> list:
     return out
 
 
-def _timed_batch(rig, traj, make, count, duration, threads, cpu: list | None = None) -> float:
-    """[s] wall time of one batch run (set-up excluded); appends the process CPU time [s] it took
-    to `cpu` when given (CPU time / wall = cores actually obtained: on a shared machine, other
-    processes' load shows here rather than as a slower loop)."""
+def timed_batch(rollouts: list, threads: int, cpu: list | None = None) -> float:
+    """[s] wall time of one batch run of configured rollouts (set-up excluded); appends the
+    process CPU time [s] it took to `cpu` when given (CPU time / wall = cores actually obtained:
+    on a shared machine, other processes' load shows here rather than as a slower loop)."""
     from ..sil import batch
 
-    rollouts = _rollouts(rig, traj, make, count, duration)
     cpu0, start = time.process_time(), time.perf_counter()
     batch.run(rollouts, threads=threads)
     wall = time.perf_counter() - start
@@ -73,6 +72,67 @@ def _timed_batch(rig, traj, make, count, duration, threads, cpu: list | None = N
         cpu.append(time.process_time() - cpu0)
     assert all(r.ok for r in rollouts), [r.error for r in rollouts if not r.ok]
     return wall
+
+
+def tick_figures(duration: float, ticks: int, substeps: int, physics_dt: float, raw_cpu: list,
+                 raw_wall: list, tick_cpu: list, tick_wall: list, controller: float) -> dict:
+    """The single-thread figures of a family's row from REPEATS interleaved runs: CPU seconds
+    of the native rollout (tick_*) and of raw mj_step replaying its commands (raw_*), and the
+    adapter + controller alone [s per tick]."""
+    raw = min(raw_cpu) / (ticks * substeps)
+    tick = min(tick_cpu) / ticks
+    return {
+        "sim_seconds": duration,
+        "ticks": ticks,
+        "physics_dt": physics_dt,
+        "raw_mj_step_us": raw * 1e6,
+        "tick_us": tick * 1e6,
+        "tick_over_mj_step": tick / (raw * substeps),
+        # Adapter + compiled controller alone; the rest of the tick over mj_step is the loop.
+        "controller_step_us": controller * 1e6,
+        "loop_glue_us": (tick - raw * substeps - controller) * 1e6,
+        "tick_over_mj_step_wall": (min(tick_wall) / ticks) / (min(raw_wall) / (ticks * substeps)),
+        # Simulated seconds per second of one core's CPU time (wall: per elapsed second).
+        "real_time_factor": duration / (tick * ticks),
+        "real_time_factor_wall": duration / min(tick_wall),
+    }
+
+
+def batch_figures(make_rollouts, duration: float) -> dict:
+    """All cores (one thread per core, 2 rollouts per core at least) and the BATCH-rollout batch
+    on 1 and 2 threads, medians of REPEATS; make_rollouts(count) builds fresh rollouts."""
+    cores = os.cpu_count() or 1
+    count = max(BATCH, 2 * cores)
+    all_cores = statistics.median(timed_batch(make_rollouts(count), cores) for _ in range(REPEATS))
+    cpu1: list = []
+    cpu2: list = []
+    t1 = statistics.median(timed_batch(make_rollouts(BATCH), 1, cpu1) for _ in range(REPEATS))
+    load1 = os.getloadavg()[0]
+    t2 = statistics.median(timed_batch(make_rollouts(BATCH), 2, cpu2) for _ in range(REPEATS))
+    return {
+        "cores": cores,
+        "real_time_factor_all_cores": count * duration / all_cores,
+        "batch": BATCH,
+        "batch_1_thread_s": t1,
+        "batch_2_threads_s": t2,
+        "batch_speedup_2_over_1": t1 / t2,
+        # CPU seconds per batch: equal for 1 and 2 threads = no extra work from threading.
+        "batch_1_thread_cpu_s": statistics.median(cpu1),
+        "batch_2_threads_cpu_s": statistics.median(cpu2),
+        # Between the 1-thread and after the 2-thread batches.
+        "load_average_1min": 0.5 * (load1 + os.getloadavg()[0]),
+    }
+
+
+def python_figures(py_runs: list, py_duration: float, py_ticks: int, raw_mj_step_us: float) -> dict:
+    """The per-tick Python loop's figures from REPEATS (CPU s, wall s) runs of py_duration."""
+    py_tick = min(c for c, _ in py_runs) / py_ticks
+    return {
+        "python_tick_us": py_tick * 1e6,
+        "python_tick_over_mj_step": py_tick * 1e6 / raw_mj_step_us,
+        "python_real_time_factor": py_duration / (py_tick * py_ticks),
+        "python_real_time_factor_wall": py_duration / min(w for _, w in py_runs),
+    }
 
 
 def arm_native(quick: bool, robot=None) -> dict:
@@ -105,8 +165,6 @@ def arm_native(quick: bool, robot=None) -> dict:
         native._native.step_raw(rig.plant.model, data, ticks, tau, actuators)
         raw_cpu.append(time.thread_time() - c0)
         raw_wall.append(time.perf_counter() - w0)
-    raw = min(raw_cpu) / (ticks * substeps)
-    tick = min(tick_cpu) / ticks
     # The compiled controller behind the adapter alone, on the start measurement (no physics).
     ctrl_cpu = []
     y = np.concatenate([rig.plant.q(), rig.plant.qd()])
@@ -116,18 +174,7 @@ def arm_native(quick: bool, robot=None) -> dict:
         native._native.step_adapter(adapter, y, ticks)
         ctrl_cpu.append(time.thread_time() - c0)
     controller = min(ctrl_cpu) / ticks
-    one = min(tick_wall)
-
-    cores = os.cpu_count() or 1
-    count = max(BATCH, 2 * cores)
-    all_cores = statistics.median(_timed_batch(rig, traj, make, count, duration, cores)
-                                  for _ in range(REPEATS))
-    cpu1: list = []
-    cpu2: list = []
-    t1 = statistics.median(_timed_batch(rig, traj, make, BATCH, duration, 1, cpu1)
-                           for _ in range(REPEATS))
-    t2 = statistics.median(_timed_batch(rig, traj, make, BATCH, duration, 2, cpu2)
-                           for _ in range(REPEATS))
+    batches = batch_figures(lambda n: _rollouts(rig, traj, make, n, duration), duration)
 
     # The per-tick Python loop on the same controller and trajectory (sil/loop.py).
     py_duration = min(duration, 1.0)
@@ -142,39 +189,10 @@ def arm_native(quick: bool, robot=None) -> dict:
         return time.thread_time() - c0, time.perf_counter() - w0
 
     py_runs = [python_loop() for _ in range(REPEATS)]
-    py_tick = min(c for c, _ in py_runs) / py_ticks
-    py_wall = min(w for _, w in py_runs)
-    return {
-        "scenario": "arm-track",
-        "robot": robot_obj.name,
-        "sim_seconds": duration,
-        "ticks": ticks,
-        "physics_dt": rig.plant.timestep,
-        "raw_mj_step_us": raw * 1e6,
-        "tick_us": tick * 1e6,
-        "tick_over_mj_step": tick / (raw * substeps),
-        # Adapter + compiled controller alone; the rest of the tick over mj_step is the loop.
-        "controller_step_us": controller * 1e6,
-        "loop_glue_us": (tick - raw * substeps - controller) * 1e6,
-        "tick_over_mj_step_wall": (min(tick_wall) / ticks) / (min(raw_wall) / (ticks * substeps)),
-        # Simulated seconds per second of one core's CPU time (wall: per elapsed second).
-        "real_time_factor": duration / (tick * ticks),
-        "real_time_factor_wall": duration / one,
-        "cores": cores,
-        "real_time_factor_all_cores": count * duration / all_cores,
-        "batch": BATCH,
-        "batch_1_thread_s": t1,
-        "batch_2_threads_s": t2,
-        "batch_speedup_2_over_1": t1 / t2,
-        # CPU seconds per batch: equal for 1 and 2 threads = no extra work from threading.
-        "batch_1_thread_cpu_s": statistics.median(cpu1),
-        "batch_2_threads_cpu_s": statistics.median(cpu2),
-        "load_average_1min": os.getloadavg()[0],
-        "python_tick_us": py_tick * 1e6,
-        "python_tick_over_mj_step": py_tick / (raw * substeps),
-        "python_real_time_factor": py_duration / (py_tick * py_ticks),
-        "python_real_time_factor_wall": py_duration / py_wall,
-    }
+    ticking = tick_figures(duration, ticks, substeps, rig.plant.timestep, raw_cpu, raw_wall,
+                           tick_cpu, tick_wall, controller)
+    return {"scenario": "arm-track", "robot": robot_obj.name, **ticking, **batches,
+            **python_figures(py_runs, py_duration, py_ticks, ticking["raw_mj_step_us"])}
 
 
 def run_native_bench(quick: bool, robot=None) -> dict:
