@@ -4,12 +4,6 @@
 
 namespace kiloloop {
 
-namespace {
-
-KDL::Vector kdl(const Eigen::Vector3d& x) { return KDL::Vector(x.x(), x.y(), x.z()); }
-
-}  // namespace
-
 Status FloatingBaseRne::configure(RobotModelPtr model, FloatingBaseRne* out, std::string* why) {
   if (!model || !model->has_chain()) {
     if (why) *why = "FloatingBaseRne: the model has no serial chain (load it with a tip link)";
@@ -19,12 +13,8 @@ Status FloatingBaseRne::configure(RobotModelPtr model, FloatingBaseRne* out, std
   r.model_ = model;
   r.chain_ = std::make_shared<const KDL::Chain>(model->chain());
   r.nq_ = model->nq();
-  const unsigned ns = model->chain().getNrOfSegments();
-  r.X_.assign(ns, KDL::Frame::Identity());
-  r.S_.assign(ns, KDL::Twist::Zero());
-  r.v_.assign(ns, KDL::Twist::Zero());
-  r.a_.assign(ns, KDL::Twist::Zero());
-  r.f_.assign(ns, KDL::Wrench::Zero());
+  const Status s = ChainRne::configure(*r.chain_, &r.rne_, why);
+  if (s != Status::kOk) return s;
   *out = std::move(r);
   return Status::kOk;
 }
@@ -41,55 +31,13 @@ Status FloatingBaseRne::compute(const VecRef& q, const VecRef& qd, const VecRef&
       !base.omega.allFinite() || !base.specific_force.allFinite() || !base.alpha.allFinite())
     return Status::kNonFiniteMeasurement;
 
-  const KDL::Chain& chain = *chain_;
-  const unsigned ns = chain.getNrOfSegments();
   // The body's twist and spatial acceleration in its own frame (see the header): the specific
   // force already carries -g, so gravity needs no separate term (KDL's RNE puts it in a0 too).
-  const KDL::Twist v_base(kdl(base.v), kdl(base.omega));
   const Eigen::Vector3d a_lin = base.specific_force - base.omega.cross(base.v);
-  const KDL::Twist a_base(kdl(a_lin), kdl(base.alpha));
-
-  // Inward pass (root to tip): KDL's, with the base's motion in place of a resting base.
-  int j = 0;
-  for (unsigned i = 0; i < ns; ++i) {
-    const KDL::Segment& seg = chain.getSegment(i);
-    double qi = 0.0, qdi = 0.0, qddi = 0.0;
-    if (seg.getJoint().getType() != KDL::Joint::Fixed) {
-      qi = q[j];
-      qdi = qd[j];
-      qddi = qdd[j];
-      ++j;
-    }
-    X_[i] = seg.pose(qi);  // frame i in frame i-1
-    const KDL::Twist vj = X_[i].M.Inverse(seg.twist(qi, qdi));
-    S_[i] = X_[i].M.Inverse(seg.twist(qi, 1.0));
-    const KDL::Twist& v_parent = i == 0 ? v_base : v_[i - 1];
-    const KDL::Twist& a_parent = i == 0 ? a_base : a_[i - 1];
-    v_[i] = X_[i].Inverse(v_parent) + vj;
-    a_[i] = X_[i].Inverse(a_parent) + S_[i] * qddi + v_[i] * vj;
-    const KDL::RigidBodyInertia& I = seg.getInertia();
-    f_[i] = I * a_[i] + v_[i] * (I * v_[i]);
-  }
-  // Outward pass (tip to root): joint torques, and each segment's force handed to its parent.
-  j = nq_ - 1;
-  KDL::Wrench root = KDL::Wrench::Zero();
-  for (int i = static_cast<int>(ns) - 1; i >= 0; --i) {
-    const KDL::Segment& seg = chain.getSegment(i);
-    if (seg.getJoint().getType() != KDL::Joint::Fixed) {
-      tau[j] = KDL::dot(S_[i], f_[i]) + seg.getJoint().getInertia() * qdd[j];
-      --j;
-    }
-    const KDL::Wrench in_parent = X_[i] * f_[i];
-    if (i > 0) {
-      f_[i - 1] = f_[i - 1] + in_parent;
-    } else {
-      root = in_parent;
-    }
-  }
-  if (wrench_on_arm) {
-    *wrench_on_arm << root.force.x(), root.force.y(), root.force.z(), root.torque.x(),
-        root.torque.y(), root.torque.z();
-  }
+  Vector6d root;
+  rne_.inverse_dynamics(q.data(), qd.data(), qdd.data(), base.v, base.omega, a_lin, base.alpha, tau.data(),
+                        root.data());
+  if (wrench_on_arm) *wrench_on_arm = root;
   return Status::kOk;
 }
 

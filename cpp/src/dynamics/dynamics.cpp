@@ -25,6 +25,7 @@ Status Dynamics::configure(RobotModelPtr model, const Eigen::Vector3d& gravity, 
   d.jac_ = std::make_unique<KDL::ChainJntToJacSolver>(chain);
   d.rne_ = std::make_unique<KDL::ChainIdSolver_RNE>(chain, g);
   d.dyn_ = std::make_unique<KDL::ChainDynParam>(chain, g);
+  d.use_own_rne_ = ChainRne::configure(chain, &d.own_rne_, nullptr) == Status::kOk;
   d.q_.resize(d.nq_);
   d.qd_.resize(d.nq_);
   d.qdd_.resize(d.nq_);
@@ -60,7 +61,11 @@ Status Dynamics::inverse_dynamics(const VecRef& q, const VecRef& qd, const VecRe
   if (qdd.size() != nq_ || tau.size() != nq_) return Status::kBadSize;
   if (!qdd.allFinite()) return Status::kNonFiniteReference;
   qdd_.data = qdd;
-  if (rne_->CartToJnt(q_, qd_, qdd_, no_external_wrench_, tau_) < 0) return Status::kSolverFailed;
+  if (use_own_rne_) {
+    own_rne_.inverse_dynamics(q_.data.data(), qd_.data.data(), qdd_.data.data(), gravity_, tau_.data.data());
+  } else if (rne_->CartToJnt(q_, qd_, qdd_, no_external_wrench_, tau_) < 0) {
+    return Status::kSolverFailed;
+  }
   tau = tau_.data;
   return Status::kOk;
 }

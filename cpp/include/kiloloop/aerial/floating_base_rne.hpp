@@ -3,10 +3,10 @@
 //
 // KDL's ChainIdSolver_RNE assumes a fixed base; it only injects gravity as a fictitious base
 // acceleration. Here the base (the chain root frame = the body frame) has a twist and a spatial
-// acceleration, both propagated down the chain; the outward pass is KDL's, with KDL types
-// (Frame, Twist, Wrench, RigidBodyInertia). Outputs: the joint torques that realise qdd while the
-// base moves as given, and the wrench the base must apply to the arm at the chain root, which is
-// minus the arm's reaction on the body.
+// acceleration, both propagated down the chain; the passes are KDL's recursion, computed by
+// ChainRne (dynamics/chain_rne.hpp: constants precomputed, about half of KDL's cost).
+// Outputs: the joint torques that realise qdd while the base moves as given, and the wrench the
+// base must apply to the arm at the chain root, which is minus the arm's reaction on the body.
 //
 // Conventions (Featherstone body coordinates, as in KDL's RNE): twists (linear; angular) of the
 // frame origin in the frame's own axes. The base's spatial acceleration is built from the
@@ -20,6 +20,7 @@
 #include <kdl/chain.hpp>
 #include <kdl/frames.hpp>
 
+#include "kiloloop/dynamics/chain_rne.hpp"
 #include "kiloloop/model/robot_model.hpp"
 #include "kiloloop/status.hpp"
 
@@ -62,11 +63,7 @@ class FloatingBaseRne {
   // so two workspaces stepping one model's chain from two threads would race.
   std::shared_ptr<const KDL::Chain> chain_;
   int nq_ = 0;
-  // Per segment, sized at configure: pose in the parent, joint unit twist, velocity,
-  // acceleration and net force (KDL's RNE arrays).
-  std::vector<KDL::Frame> X_;
-  std::vector<KDL::Twist> S_, v_, a_;
-  std::vector<KDL::Wrench> f_;
+  ChainRne rne_;  // the moving-base Newton-Euler pass over the chain's constants
 };
 
 }  // namespace kiloloop

@@ -14,6 +14,7 @@
 #include <kdl/chainidsolver_recursive_newton_euler.hpp>
 #include <kdl/chainjnttojacsolver.hpp>
 
+#include "kiloloop/dynamics/chain_rne.hpp"
 #include "kiloloop/model/robot_model.hpp"
 #include "kiloloop/status.hpp"
 
@@ -33,7 +34,8 @@ class Dynamics {
   const RobotModelPtr& model_ptr() const { return model_; }
   const Eigen::Vector3d& gravity_vector() const { return gravity_; }
 
-  // tau = M(q) qdd + C(q,qd) qd + g(q), one recursive Newton-Euler pass. [N m] (nq)
+  // tau = M(q) qdd + C(q,qd) qd + g(q), one recursive Newton-Euler pass (ChainRne; KDL's
+  // ChainIdSolver_RNE where ChainRne refuses the chain). [N m] (nq)
   Status inverse_dynamics(const VecRef& q, const VecRef& qd, const VecRef& qdd,
                           Eigen::Ref<Eigen::VectorXd> tau) noexcept;
   Status mass_matrix(const VecRef& q, Eigen::Ref<Eigen::MatrixXd> M) noexcept;           // (nq,nq)
@@ -57,6 +59,8 @@ class Dynamics {
   std::unique_ptr<KDL::ChainFkSolverPos_recursive> fk_;
   std::unique_ptr<KDL::ChainJntToJacSolver> jac_;
   std::unique_ptr<KDL::ChainIdSolver_RNE> rne_;
+  ChainRne own_rne_;          // the inverse-dynamics pass, about half of rne_'s cost (chain_rne.hpp)
+  bool use_own_rne_ = false;  // false: a joint with a scale/offset ChainRne does not model
   std::unique_ptr<KDL::ChainDynParam> dyn_;
   KDL::JntArray q_, qd_, qdd_, tau_;
   KDL::Wrenches no_external_wrench_;

@@ -1,18 +1,15 @@
 #pragma once
 // Gravity torques of one leg (trunk -> foot chain) for gravity given in the trunk frame, which
-// turns with the trunk. Gravity torque is linear in the gravity vector, tau_g = G(q) g, so three
-// KDL ChainDynParam solvers with unit gravity along the trunk axes give G's columns. With
+// turns with the trunk: one gravity-only Newton-Euler pass (ChainRne) with that gravity vector
+// (before: three KDL ChainDynParam passes with unit gravity along the trunk axes, G's columns,
+// summed; the same torque to round-off at a third of the passes). With
 //   tau = tau_g(q) - J^T f
 // a leg in contact makes the ground push on its foot with exactly f (its own weight carried).
-#include <array>
-#include <memory>
 #include <string>
 
 #include <Eigen/Core>
-#include <kdl/chain.hpp>
-#include <kdl/chaindynparam.hpp>
-#include <kdl/jntarray.hpp>
 
+#include "kiloloop/dynamics/chain_rne.hpp"
 #include "kiloloop/model/robot_model.hpp"
 #include "kiloloop/status.hpp"
 
@@ -29,9 +26,7 @@ class LegGravity {
   Eigen::Vector3d torque(const Eigen::Vector3d& q, const Eigen::Vector3d& gravity_trunk) noexcept;
 
  private:
-  std::unique_ptr<KDL::Chain> chain_;  // heap-held: the solvers keep a reference to it
-  std::array<std::unique_ptr<KDL::ChainDynParam>, 3> unit_;
-  KDL::JntArray q_, tau_;
+  ChainRne rne_;  // owns copies of the chain's constants: no reference to the model's tree
 };
 
 }  // namespace kiloloop

@@ -1,0 +1,261 @@
+#include "kiloloop/dynamics/chain_rne.hpp"
+
+#include <cmath>
+
+#include <Eigen/Geometry>  // cross products
+
+#include <kdl/frames.hpp>
+#include <kdl/segment.hpp>
+
+namespace kiloloop {
+
+namespace {
+Eigen::Vector3d vec(const KDL::Vector& v) { return {v.x(), v.y(), v.z()}; }
+
+Eigen::Matrix3d mat(const KDL::Rotation& r) {
+  Eigen::Matrix3d m;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) m(i, j) = r(i, j);
+  return m;
+}
+
+// Rotation by angle about the unit axis a (Rodrigues, as KDL::Rotation::Rot2).
+Eigen::Matrix3d axis_rotation(const Eigen::Vector3d& a, double c, double s) noexcept {
+  const double t = 1.0 - c;
+  Eigen::Matrix3d r;
+  r << c + t * a.x() * a.x(), t * a.x() * a.y() - s * a.z(), t * a.x() * a.z() + s * a.y(),
+      t * a.x() * a.y() + s * a.z(), c + t * a.y() * a.y(), t * a.y() * a.z() - s * a.x(),
+      t * a.x() * a.z() - s * a.y(), t * a.y() * a.z() + s * a.x(), c + t * a.z() * a.z();
+  return r;
+}
+}  // namespace
+
+Status ChainRne::configure(const KDL::Chain& chain, ChainRne* out, std::string* why) {
+  ChainRne r;
+  for (unsigned i = 0; i < chain.getNrOfSegments(); ++i) {
+    const KDL::Segment& seg = chain.getSegment(i);
+    const KDL::Joint& joint = seg.getJoint();
+    Segment s;
+    switch (joint.getType()) {
+      case KDL::Joint::Fixed: s.kind = Kind::kFixed; break;
+      case KDL::Joint::RotAxis: case KDL::Joint::RotX: case KDL::Joint::RotY: case KDL::Joint::RotZ:
+        s.kind = Kind::kRevolute;
+        break;
+      default: s.kind = Kind::kPrismatic; break;
+    }
+    // KDL's segment pose is joint.pose(q) * f_tip with f_tip = joint.pose(0)^-1 getFrameToTip()
+    // (Segment keeps that private): the tip frame after the joint's own offset.
+    const KDL::Frame tip = joint.pose(0.0).Inverse() * seg.getFrameToTip();
+    s.tip_rot = mat(tip.M);
+    s.tip_pos = vec(tip.p);
+    s.axis = Eigen::Vector3d::Zero();
+    s.origin = Eigen::Vector3d::Zero();
+    s.s_lin = s.s_ang = Eigen::Vector3d::Zero();
+    if (s.kind != Kind::kFixed) {
+      s.joint = r.nq_++;
+      s.axis = vec(joint.JointAxis()).normalized();
+      s.origin = vec(joint.JointOrigin());
+      s.rotor_inertia = joint.getInertia();
+      // S in the tip frame: rotation about the axis through the joint origin, whose tip-frame
+      // expression does not depend on q (the joint's rotation leaves its own axis fixed).
+      if (s.kind == Kind::kRevolute) {
+        s.s_ang = s.tip_rot.transpose() * s.axis;
+        s.s_lin = s.tip_rot.transpose() * s.axis.cross(s.tip_pos);
+      } else {
+        s.s_lin = s.tip_rot.transpose() * s.axis;
+      }
+    }
+    const KDL::RigidBodyInertia& I = seg.getInertia();
+    s.mass = I.getMass();
+    s.h = s.mass * vec(I.getCOG());
+    const KDL::RotationalInertia Io = I.getRotationalInertia();
+    for (int a = 0; a < 3; ++a)
+      for (int b = 0; b < 3; ++b) s.inertia(a, b) = Io.data[3 * a + b];
+    s.has_inertia = s.mass != 0.0 || !s.inertia.isZero(0.0);
+    r.segments_.push_back(s);
+  }
+  // The joint pose and unit twist this pass assumes must be KDL's (scale 1, offset 0).
+  for (unsigned i = 0; i < chain.getNrOfSegments(); ++i) {
+    const Segment& s = r.segments_[i];
+    if (s.kind == Kind::kFixed) continue;
+    for (double q : {0.0, 0.7, -2.1}) {
+      State x;
+      r.pose(s, q, x);
+      const KDL::Frame f = chain.getSegment(i).pose(q);
+      const KDL::Twist t = chain.getSegment(i).twist(q, 1.0);
+      const KDL::Twist S = f.M.Inverse(t);
+      const double err = (mat(f.M) - x.rot).cwiseAbs().maxCoeff() + (vec(f.p) - x.pos).cwiseAbs().maxCoeff() +
+                         (vec(S.vel) - s.s_lin).cwiseAbs().maxCoeff() + (vec(S.rot) - s.s_ang).cwiseAbs().maxCoeff();
+      if (!(err < 1e-9 * (1.0 + s.tip_pos.norm() + s.origin.norm()))) {
+        if (why) *why = "ChainRne: joint '" + chain.getSegment(i).getJoint().getName() +
+                        "' has a scale or offset this pass does not model";
+        return Status::kModelError;
+      }
+    }
+  }
+  // A fixed segment moves rigidly with the segment before it: its inertia joins that segment's
+  // (transformed into its frame) and its frame to tip is carried into the next segment's joint
+  // placement, so each tick does one pass per moving segment (plus a leading fixed one) instead of
+  // one per segment (a URDF chain carries fixed base, flange and tool frames). Exact in exact arithmetic: the
+  // torques move at round-off only (chain_rne_test.cpp against KDL).
+  {
+    const std::vector<Segment> in = r.segments_;
+    std::vector<Segment> kept;
+    std::vector<KDL::RigidBodyInertia> inertia;  // of each kept segment, in its tip frame
+    KDL::Frame F = KDL::Frame::Identity();       // the current parent frame in the last kept one
+    auto frame_of = [](const Eigen::Matrix3d& m, const Eigen::Vector3d& p) {
+      return KDL::Frame(KDL::Rotation(m(0, 0), m(0, 1), m(0, 2), m(1, 0), m(1, 1), m(1, 2), m(2, 0), m(2, 1), m(2, 2)),
+                        KDL::Vector(p.x(), p.y(), p.z()));
+    };
+    for (size_t i = 0; i < in.size(); ++i) {
+      const KDL::RigidBodyInertia& I = chain.getSegment(static_cast<unsigned>(i)).getInertia();
+      const KDL::Frame tip = frame_of(in[i].tip_rot, in[i].tip_pos);
+      if (in[i].kind == Kind::kFixed && !kept.empty()) {
+        F = F * tip;
+        inertia.back() = inertia.back() + F * I;
+        continue;
+      }
+      Segment s = in[i];
+      if (!kept.empty()) {  // re-express the joint and its tip in the last kept segment's frame
+        const Eigen::Matrix3d R = mat(F.M);
+        s.axis = R * in[i].axis;
+        s.origin = vec(F.p) + R * in[i].origin;
+        s.tip_rot = R * in[i].tip_rot;
+        s.tip_pos = R * in[i].tip_pos;
+      }
+      kept.push_back(s);
+      inertia.push_back(I);
+      F = KDL::Frame::Identity();
+    }
+    for (size_t k = 0; k < kept.size(); ++k) {
+      Segment& s = kept[k];
+      s.mass = inertia[k].getMass();
+      s.h = s.mass * vec(inertia[k].getCOG());
+      const KDL::RotationalInertia Io = inertia[k].getRotationalInertia();
+      for (int a = 0; a < 3; ++a)
+        for (int b = 0; b < 3; ++b) s.inertia(a, b) = Io.data[3 * a + b];
+      s.has_inertia = s.mass != 0.0 || !s.inertia.isZero(0.0);
+    }
+    r.segments_ = std::move(kept);
+  }
+  r.state_.resize(r.segments_.size());
+  *out = std::move(r);
+  return Status::kOk;
+}
+
+// The segment's tip frame in its parent frame at joint position q: rot = R_joint tip_rot,
+// pos = origin + R_joint tip_pos (revolute), or a translation along the axis (prismatic).
+void ChainRne::pose(const Segment& s, double q, State& x) const noexcept {
+  switch (s.kind) {
+    case Kind::kFixed:
+      x.rot = s.tip_rot;
+      x.pos = s.tip_pos;
+      break;
+    case Kind::kRevolute: {
+      const Eigen::Matrix3d R = axis_rotation(s.axis, std::cos(q), std::sin(q));
+      x.rot.noalias() = R * s.tip_rot;
+      x.pos.noalias() = R * s.tip_pos;
+      x.pos += s.origin;
+      break;
+    }
+    case Kind::kPrismatic:
+      x.rot = s.tip_rot;
+      x.pos = s.origin + q * s.axis + s.tip_pos;
+      break;
+  }
+}
+
+void ChainRne::inverse_dynamics(const double* q, const double* qd, const double* qdd,
+                                const Eigen::Vector3d& gravity, double* tau) noexcept {
+  // Root at rest, accelerating at -g (gravity as a base acceleration, as KDL).
+  const Eigen::Vector3d zero = Eigen::Vector3d::Zero();
+  inverse_dynamics(q, qd, qdd, zero, zero, -gravity, zero, tau, nullptr);
+}
+
+void ChainRne::inverse_dynamics(const double* q, const double* qd, const double* qdd, const Eigen::Vector3d& v0,
+                                const Eigen::Vector3d& w0, const Eigen::Vector3d& a0, const Eigen::Vector3d& aw0,
+                                double* tau, double* root_wrench) noexcept {
+  Eigen::Vector3d v_p = v0, w_p = w0, a_p = a0, aw_p = aw0;
+  for (size_t i = 0; i < segments_.size(); ++i) {
+    const Segment& s = segments_[i];
+    State& x = state_[i];
+    const bool moving = s.kind != Kind::kFixed;
+    pose(s, moving ? q[s.joint] : 0.0, x);
+    const Eigen::Matrix3d& E = x.rot;
+    // Parent twist and acceleration into this frame: [E^T (v - p x w); E^T w].
+    x.w.noalias() = E.transpose() * w_p;
+    x.v.noalias() = E.transpose() * (v_p - x.pos.cross(w_p));
+    x.aw.noalias() = E.transpose() * aw_p;
+    x.a.noalias() = E.transpose() * (a_p - x.pos.cross(aw_p));
+    if (moving) {
+      const double dq = qd[s.joint], ddq = qdd[s.joint];
+      const Eigen::Vector3d vj = s.s_lin * dq, wj = s.s_ang * dq;
+      x.v += vj;
+      x.w += wj;
+      // + S qdd + v x vj (motion cross product; S is constant in this frame).
+      x.a += s.s_lin * ddq + x.w.cross(vj) + x.v.cross(wj);
+      x.aw += s.s_ang * ddq + x.w.cross(wj);
+    }
+    if (s.has_inertia) {
+      // f = I a + v x* (I v), I t = [m t_v - h x t_w; I_o t_w + h x t_v].
+      const Eigen::Vector3d pv = s.mass * x.v - s.h.cross(x.w);
+      const Eigen::Vector3d lv = s.inertia * x.w + s.h.cross(x.v);
+      x.f = s.mass * x.a - s.h.cross(x.aw) + x.w.cross(pv);
+      x.n = s.inertia * x.aw + s.h.cross(x.a) + x.w.cross(lv) + x.v.cross(pv);
+    } else {
+      x.f.setZero();
+      x.n.setZero();
+    }
+    v_p = x.v;
+    w_p = x.w;
+    a_p = x.a;
+    aw_p = x.aw;
+  }
+  backward(tau, qdd, root_wrench);
+}
+
+void ChainRne::gravity_torque(const double* q, const Eigen::Vector3d& gravity, double* tau) noexcept {
+  Eigen::Vector3d a_p = -gravity;  // no velocity and no angular acceleration anywhere
+  for (size_t i = 0; i < segments_.size(); ++i) {
+    const Segment& s = segments_[i];
+    State& x = state_[i];
+    pose(s, s.kind != Kind::kFixed ? q[s.joint] : 0.0, x);
+    x.a.noalias() = x.rot.transpose() * a_p;
+    if (s.has_inertia) {
+      x.f = s.mass * x.a;
+      x.n = s.h.cross(x.a);
+    } else {
+      x.f.setZero();
+      x.n.setZero();
+    }
+    a_p = x.a;
+  }
+  backward(tau, nullptr, nullptr);
+}
+
+// Leaf to root: tau_j = S . f (+ rotor inertia qdd), and each segment's wrench onto its parent,
+// [E f; E n + p x E f]; the root segment's onto the base when asked.
+void ChainRne::backward(double* tau, const double* qdd, double* root_wrench) noexcept {
+  if (root_wrench)
+    for (int i = 0; i < 6; ++i) root_wrench[i] = 0.0;
+  for (size_t k = segments_.size(); k-- > 0;) {
+    const Segment& s = segments_[k];
+    State& x = state_[k];
+    if (s.kind != Kind::kFixed) {
+      tau[s.joint] = s.s_lin.dot(x.f) + s.s_ang.dot(x.n);
+      if (qdd) tau[s.joint] += s.rotor_inertia * qdd[s.joint];
+    }
+    if (k > 0 || root_wrench) {
+      const Eigen::Vector3d f = x.rot * x.f;
+      const Eigen::Vector3d n = x.rot * x.n + x.pos.cross(f);
+      if (k > 0) {
+        state_[k - 1].f += f;
+        state_[k - 1].n += n;
+      } else {
+        Eigen::Map<Eigen::Matrix<double, 6, 1>>(root_wrench) << f, n;
+      }
+    }
+  }
+}
+
+}  // namespace kiloloop

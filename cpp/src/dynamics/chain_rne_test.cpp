@@ -1,0 +1,107 @@
+#include "kiloloop/dynamics/chain_rne.hpp"
+
+#include <random>
+
+#include <gtest/gtest.h>
+#include <kdl/chaindynparam.hpp>
+#include <kdl/chainidsolver_recursive_newton_euler.hpp>
+
+#include "alloc_counter.hpp"
+#include "test_models.hpp"
+
+namespace kiloloop {
+namespace {
+
+KDL::RigidBodyInertia body(double m, double cx, double cy, double cz) {
+  return KDL::RigidBodyInertia(m, KDL::Vector(cx, cy, cz),
+                               KDL::RotationalInertia(0.02 * m, 0.03 * m, 0.025 * m, 0.001, -0.002, 0.0015));
+}
+
+// Every kind of segment KDL chains hold: a fixed base, revolute joints about an arbitrary axis
+// through an offset origin and about the frame axes, a prismatic joint, a massless fixed tip,
+// rotor inertia, tilted tip frames.
+KDL::Chain mixed_chain() {
+  KDL::Chain c;
+  const KDL::Rotation tilt = KDL::Rotation::RPY(0.3, -0.2, 0.7);
+  c.addSegment(KDL::Segment("base", KDL::Joint("fixed", KDL::Joint::Fixed),
+                            KDL::Frame(KDL::Vector(0.0, 0.0, 0.1)), body(2.0, 0.0, 0.0, 0.05)));
+  KDL::Vector axis(0.2, -0.5, 0.8);
+  axis.Normalize();
+  c.addSegment(KDL::Segment("a", KDL::Joint("ja", KDL::Vector(0.01, 0.02, 0.0), axis, KDL::Joint::RotAxis, 1, 0, 0.05),
+                            KDL::Frame(tilt, KDL::Vector(0.1, 0.0, 0.3)), body(1.5, 0.05, 0.01, 0.15)));
+  c.addSegment(KDL::Segment("b", KDL::Joint("jb", KDL::Joint::RotY),
+                            KDL::Frame(KDL::Vector(0.0, 0.05, 0.4)), body(1.0, 0.0, 0.02, 0.2)));
+  c.addSegment(KDL::Segment("c", KDL::Joint("jc", KDL::Vector(0.0, 0.0, 0.1), KDL::Vector(0, 0, 1),
+                                            KDL::Joint::TransAxis, 1, 0, 0.2),
+                            KDL::Frame(tilt.Inverse(), KDL::Vector(0.0, 0.0, 0.05)), body(0.7, 0.01, 0.0, 0.03)));
+  c.addSegment(KDL::Segment("d", KDL::Joint("jd", KDL::Joint::RotX), KDL::Frame(KDL::Vector(0.1, 0.0, 0.0)),
+                            body(0.3, 0.05, 0.0, 0.0)));
+  c.addSegment(KDL::Segment("tool", KDL::Joint("tool_fixed", KDL::Joint::Fixed),
+                            KDL::Frame(KDL::Vector(0.0, 0.0, 0.08))));
+  return c;
+}
+
+// ChainRne against KDL's ChainIdSolver_RNE (the oracle) on random states and gravity vectors,
+// and its gravity-only pass against KDL's ChainDynParam::JntToGravity.
+void expect_equal_to_kdl(const KDL::Chain& chain, unsigned seed) {
+  ChainRne rne;
+  std::string why;
+  ASSERT_EQ(ChainRne::configure(chain, &rne, &why), Status::kOk) << why;
+  const int n = static_cast<int>(chain.getNrOfJoints());
+  ASSERT_EQ(rne.nq(), n);
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  KDL::JntArray q(n), qd(n), qdd(n), tau_kdl(n), g_kdl(n);
+  KDL::Wrenches none(chain.getNrOfSegments(), KDL::Wrench::Zero());
+  Eigen::VectorXd tau(n), g(n);
+  for (int k = 0; k < 300; ++k) {
+    const Eigen::Vector3d gravity(3.0 * u(rng), 3.0 * u(rng), -9.81 + 2.0 * u(rng));
+    for (int j = 0; j < n; ++j) {
+      q(j) = 3.0 * u(rng);
+      qd(j) = 4.0 * u(rng);
+      qdd(j) = 10.0 * u(rng);
+    }
+    KDL::ChainIdSolver_RNE kdl(chain, KDL::Vector(gravity.x(), gravity.y(), gravity.z()));
+    ASSERT_GE(kdl.CartToJnt(q, qd, qdd, none, tau_kdl), 0);
+    rne.inverse_dynamics(q.data.data(), qd.data.data(), qdd.data.data(), gravity, tau.data());
+    const double scale = 1.0 + tau_kdl.data.cwiseAbs().maxCoeff();
+    EXPECT_LT((tau - tau_kdl.data).cwiseAbs().maxCoeff(), 1e-12 * scale) << "seed " << seed << " k " << k;
+
+    KDL::ChainDynParam dyn(chain, KDL::Vector(gravity.x(), gravity.y(), gravity.z()));
+    ASSERT_GE(dyn.JntToGravity(q, g_kdl), 0);
+    rne.gravity_torque(q.data.data(), gravity, g.data());
+    EXPECT_LT((g - g_kdl.data).cwiseAbs().maxCoeff(), 1e-12 * (1.0 + g_kdl.data.cwiseAbs().maxCoeff()))
+        << "seed " << seed << " k " << k;
+  }
+}
+
+TEST(ChainRne, EqualsKdlOnTheUr5) { expect_equal_to_kdl(testing::load_ur5()->chain(), 11); }
+
+TEST(ChainRne, EqualsKdlOnEveryJointKind) { expect_equal_to_kdl(mixed_chain(), 12); }
+
+TEST(ChainRne, RefusesAJointScaleItDoesNotModel) {
+  KDL::Chain c;
+  c.addSegment(KDL::Segment("a", KDL::Joint("ja", KDL::Joint::RotZ, 2.0), KDL::Frame(KDL::Vector(0, 0, 0.1)),
+                            body(1.0, 0.0, 0.0, 0.05)));
+  ChainRne rne;
+  std::string why;
+  EXPECT_EQ(ChainRne::configure(c, &rne, &why), Status::kModelError);
+  EXPECT_NE(why.find("ja"), std::string::npos) << why;
+}
+
+TEST(ChainRne, IsAllocationFree) {
+  ChainRne rne;
+  std::string why;
+  ASSERT_EQ(ChainRne::configure(mixed_chain(), &rne, &why), Status::kOk) << why;
+  double q[4] = {0.1, 0.2, 0.3, 0.4}, qd[4] = {1, 2, 3, 4}, qdd[4] = {-1, 0, 1, 2}, tau[4];
+  const Eigen::Vector3d gravity(0.0, 0.0, -9.81);
+  testing::AllocationScope scope;
+  for (int k = 0; k < 1000; ++k) {
+    rne.inverse_dynamics(q, qd, qdd, gravity, tau);
+    rne.gravity_torque(q, gravity, tau);
+  }
+  EXPECT_EQ(scope.count(), 0u);
+}
+
+}  // namespace
+}  // namespace kiloloop
