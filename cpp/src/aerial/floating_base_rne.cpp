@@ -1,14 +1,9 @@
 #include "kiloloop/aerial/floating_base_rne.hpp"
+#include "kiloloop/model/kdl_eigen.hpp"
 
 #include <cmath>
 
 namespace kiloloop {
-
-namespace {
-
-KDL::Vector kdl(const Eigen::Vector3d& x) { return KDL::Vector(x.x(), x.y(), x.z()); }
-
-}  // namespace
 
 Status FloatingBaseRne::configure(RobotModelPtr model, FloatingBaseRne* out, std::string* why) {
   if (!model || !model->has_chain()) {
@@ -45,9 +40,9 @@ Status FloatingBaseRne::compute(const VecRef& q, const VecRef& qd, const VecRef&
   const unsigned ns = chain.getNrOfSegments();
   // The body's twist and spatial acceleration in its own frame (see the header): the specific
   // force already carries -g, so gravity needs no separate term (KDL's RNE puts it in a0 too).
-  const KDL::Twist v_base(kdl(base.v), kdl(base.omega));
+  const KDL::Twist v_base(to_kdl(base.v), to_kdl(base.omega));
   const Eigen::Vector3d a_lin = base.specific_force - base.omega.cross(base.v);
-  const KDL::Twist a_base(kdl(a_lin), kdl(base.alpha));
+  const KDL::Twist a_base(to_kdl(a_lin), to_kdl(base.alpha));
 
   // Inward pass (root to tip): KDL's, with the base's motion in place of a resting base.
   int j = 0;
