@@ -8,6 +8,11 @@
 
 namespace kiloloop::testing {
 
+// [rad] The UR5 pose the supervisor tests start from: clear of the joint limits and of singularities.
+inline Eigen::VectorXd ur5_home() {
+  return (Eigen::VectorXd(6) << 0.0, -1.2, 1.6, -1.97, -1.57, 0.0).finished();
+}
+
 class ArmSim {
  public:
   ArmSim(RobotModelPtr model, const Eigen::VectorXd& q0) : q(q0), qd(Eigen::VectorXd::Zero(q0.size())) {

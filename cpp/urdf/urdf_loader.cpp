@@ -1,4 +1,5 @@
 #include "kiloloop/urdf/urdf_loader.hpp"
+#include "kiloloop/model/model_error.hpp"
 
 #include "kiloloop/urdf/urdf_description.hpp"
 
@@ -56,11 +57,6 @@ bool restore_root_inertia(urdf::ModelInterface& model) {
   return true;
 }
 
-Status fail(std::string* why, const std::string& msg) {
-  if (why) *why = msg;
-  return Status::kModelError;
-}
-
 // URDF writes 0 for "not given" velocity/effort on continuous joints; continuous joints have no
 // position range.
 JointLimit limit_of(const urdf::Joint& joint) {
@@ -95,7 +91,7 @@ PoseSpec pose_of(const urdf::Pose& p) {
 
 Status description_from_urdf_string(const std::string& xml, UrdfDescription* out, std::string* why,
                                     const std::string& source) {
-  if (out == nullptr) return fail(why, "description_from_urdf_string: null output");
+  if (out == nullptr) return model_error(why, "description_from_urdf_string: null output");
   urdf::ModelInterfaceSharedPtr urdf_model;
   std::string parse_errors;
   {
@@ -106,15 +102,15 @@ Status description_from_urdf_string(const std::string& xml, UrdfDescription* out
   // urdfdom logs some errors and still returns a model (a number it could not read left at 0):
   // an error is an error.
   if (!urdf_model || !parse_errors.empty())
-    return fail(why, "invalid URDF " + source + ": " +
+    return model_error(why, "invalid URDF " + source + ": " +
                          (parse_errors.empty() ? std::string("parse failed") : parse_errors));
 
   const std::string problem = urdf_checks::first_problem(*urdf_model);
-  if (!problem.empty()) return fail(why, "invalid URDF " + source + ": " + problem);
+  if (!problem.empty()) return model_error(why, "invalid URDF " + source + ": " + problem);
 
   for (const auto& [name, joint] : urdf_model->joints_) {
     if (joint->type == urdf::Joint::FLOATING || joint->type == urdf::Joint::PLANAR)
-      return fail(why, "URDF " + source + ": joint '" + name +
+      return model_error(why, "URDF " + source + ": joint '" + name +
                            "' is floating/planar; model a floating base without a URDF joint");
   }
   out->names_.clear();
@@ -184,7 +180,7 @@ Status model_from_urdf_file(const std::string& path, const std::string& root,
                             const std::string& tip, const std::map<std::string, double>& locked,
                             RobotModel* out, std::string* why) {
   std::ifstream file(path);
-  if (!file) return fail(why, "cannot open URDF file '" + path + "'");
+  if (!file) return model_error(why, "cannot open URDF file '" + path + "'");
   std::stringstream text;
   text << file.rdbuf();
   return model_from_urdf_string(text.str(), root, tip, locked, out, why, "'" + path + "'");

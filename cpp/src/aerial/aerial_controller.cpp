@@ -1,4 +1,5 @@
 #include "kiloloop/aerial/aerial_controller.hpp"
+#include "kiloloop/model/kdl_eigen.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -22,8 +23,6 @@ Eigen::Matrix3d eig(const KDL::RotationalInertia& I) {
 }
 
 bool finite(double x) { return std::isfinite(x); }
-
-KDL::Vector kdl(const Eigen::Vector3d& v) { return KDL::Vector(v.x(), v.y(), v.z()); }
 
 // [m], [m/s], [rad/s]...: a finite value this large in a state or a reference can only be a
 // fault (and would overflow the loops' products to Inf).
@@ -135,7 +134,7 @@ Status AerialController::configure(const AerialConfig& config, RobotModelPtr mod
     return Status::kModelError;
   }
   c.c_body_ = eig(Ib.getCOG());
-  c.J_body_ = eig(Ib.RefPoint(kdl(c.c_body_)).getRotationalInertia());
+  c.J_body_ = eig(Ib.RefPoint(to_kdl(c.c_body_)).getRotationalInertia());
   // The rigid vehicle: body plus the arm frozen at its nominal pose, about the body CoM.
   KDL::RigidBodyInertia total = Ib;
   if (has_arm) {
@@ -155,7 +154,7 @@ Status AerialController::configure(const AerialConfig& config, RobotModelPtr mod
   }
   c.m_total_ = total.getMass();
   c.c_vehicle_ = eig(total.getCOG());
-  c.J_rigid_ = eig(total.RefPoint(kdl(c.c_body_)).getRotationalInertia());
+  c.J_rigid_ = eig(total.RefPoint(to_kdl(c.c_body_)).getRotationalInertia());
 
   s = PositionController::configure(c.cfg_.position, &c.position_, why);
   if (failed(s)) return s;

@@ -1,6 +1,7 @@
 // The composed aerial controller: hover equilibrium, what the reaction feed-forward adds, the
 // safety policy (tilt, NaN/Inf, stale, sizes), determinism and zero allocations per step.
 #include <cmath>
+#include "test_values.hpp"
 #include <cstdio>
 #include <cstring>
 #include <random>
@@ -14,7 +15,6 @@
 namespace kiloloop {
 namespace {
 
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 AerialController make(const AerialConfig& config = {}) {
   AerialController c;

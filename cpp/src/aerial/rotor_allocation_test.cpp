@@ -15,7 +15,7 @@
 namespace kiloloop {
 namespace {
 
-RotorAllocation make(const RotorAllocationConfig& c = {}) {
+RotorAllocation make_allocation(const RotorAllocationConfig& c = {}) {
   RotorAllocation a;
   std::string why;
   EXPECT_EQ(RotorAllocation::configure(c, &a, &why), Status::kOk) << why;
@@ -23,7 +23,7 @@ RotorAllocation make(const RotorAllocationConfig& c = {}) {
 }
 
 TEST(RotorAllocation, ReproducesTheWrenchExactlyWhenUnsaturated) {
-  RotorAllocation alloc = make();
+  RotorAllocation alloc = make_allocation();
   std::mt19937 rng(11);
   std::uniform_real_distribution<double> T(12.0, 20.0), tau(-0.3, 0.3), yaw(-0.05, 0.05);
   for (int k = 0; k < 1000; ++k) {
@@ -37,7 +37,7 @@ TEST(RotorAllocation, ReproducesTheWrenchExactlyWhenUnsaturated) {
 }
 
 TEST(RotorAllocation, GivesUpYawBeforeRollAndPitch) {
-  RotorAllocation alloc = make();
+  RotorAllocation alloc = make_allocation();
   // Near full thrust with a large yaw demand: roll/pitch must survive, yaw is cut.
   const Eigen::Vector4d w(28.0, 0.4, -0.3, 0.2);
   Eigen::VectorXd f(4);
@@ -53,7 +53,7 @@ TEST(RotorAllocation, GivesUpYawBeforeRollAndPitch) {
 }
 
 TEST(RotorAllocation, ShiftsThrustToKeepRollPitchAndScalesOnlyAsLastResort) {
-  RotorAllocation alloc = make();
+  RotorAllocation alloc = make_allocation();
   Eigen::VectorXd f(4);
   Eigen::Vector4d achieved;
   // Low thrust, strong roll: a rotor would go negative; thrust is raised, roll kept.
@@ -69,7 +69,7 @@ TEST(RotorAllocation, ShiftsThrustToKeepRollPitchAndScalesOnlyAsLastResort) {
 }
 
 TEST(RotorAllocation, RandomWrenchesStayInLimits) {
-  RotorAllocation alloc = make();
+  RotorAllocation alloc = make_allocation();
   std::mt19937 rng(3);
   std::uniform_real_distribution<double> T(-5.0, 40.0), tau(-3.0, 3.0);
   for (int k = 0; k < 5000; ++k) {
@@ -84,7 +84,7 @@ TEST(RotorAllocation, RandomWrenchesStayInLimits) {
 TEST(RotorAllocation, LagCompensationLeadsTheCommand) {
   RotorAllocationConfig c;
   c.lag_compensation = true;
-  RotorAllocation alloc = make(c);
+  RotorAllocation alloc = make_allocation(c);
   Eigen::VectorXd f(4);
   alloc.allocate(Eigen::Vector4d(16.0, 0, 0, 0), f);
   EXPECT_NEAR(f[0], 4.0, 1e-12);
@@ -93,7 +93,7 @@ TEST(RotorAllocation, LagCompensationLeadsTheCommand) {
 }
 
 TEST(RotorAllocation, BadInputAndConfig) {
-  RotorAllocation alloc = make();
+  RotorAllocation alloc = make_allocation();
   Eigen::VectorXd f(4);
   EXPECT_EQ(alloc.allocate(Eigen::Vector4d(std::nan(""), 0, 0, 0), f),
             Status::kNonFiniteReference);
@@ -110,7 +110,7 @@ TEST(RotorAllocation, BadInputAndConfig) {
 }
 
 TEST(RotorAllocation, IsAllocationFree) {
-  RotorAllocation alloc = make();
+  RotorAllocation alloc = make_allocation();
   Eigen::VectorXd f(4);
   testing::AllocationScope scope;
   for (int k = 0; k < 10000; ++k)
@@ -126,7 +126,7 @@ TEST(RotorAllocation, AnyRotorCountIsExactUnsaturatedAndInLimitsOtherwise) {
   for (int n : {4, 6, 8}) {
     for (double tilt : {0.0, 0.35}) {
       if (n == 4 && tilt > 0) continue;
-      RotorAllocation alloc = make(ring(n, 0.3, tilt));
+      RotorAllocation alloc = make_allocation(ring(n, 0.3, tilt));
       EXPECT_EQ(alloc.n(), n);
       EXPECT_EQ(alloc.uses_lateral_rows(), tilt > 0) << n;
       std::mt19937 rng(100 + n);
@@ -151,7 +151,7 @@ TEST(RotorAllocation, AnyRotorCountIsExactUnsaturatedAndInLimitsOtherwise) {
 }
 
 TEST(RotorAllocation, HexarotorGivesUpYawFirst) {
-  RotorAllocation alloc = make(ring(6));
+  RotorAllocation alloc = make_allocation(ring(6));
   Eigen::VectorXd f(6);
   Eigen::Vector4d achieved;
   const Eigen::Vector4d w(44.0, 0.8, -0.5, 0.4);  // near full thrust, big yaw
@@ -186,7 +186,7 @@ TEST(RotorAllocation, IsAllocationFreeForEveryRotorCount) {
   for (int n : {4, 6, 8}) {
     for (double tilt : {0.0, 0.35}) {
       if (n == 4 && tilt > 0) continue;
-      RotorAllocation alloc = make(ring(n, 0.3, tilt));
+      RotorAllocation alloc = make_allocation(ring(n, 0.3, tilt));
       Eigen::VectorXd f(n);
       Eigen::Vector4d achieved;
       testing::AllocationScope scope;

@@ -1,6 +1,7 @@
 // Cartesian line + differential-IK tracking on the UR5: the line's geometry, closed-loop tracking
 // against the exact rigid-body dynamics, zero allocations, determinism, bad input.
 #include <cmath>
+#include "test_values.hpp"
 #include <cstring>
 
 #include <Eigen/Cholesky>
@@ -14,7 +15,6 @@
 namespace kiloloop {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 
 Eigen::VectorXd q_start() {
   Eigen::VectorXd q(6);

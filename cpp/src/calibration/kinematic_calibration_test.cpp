@@ -2,6 +2,7 @@
 // perturbed KDL chain, not the identified form): identification from 0.1 mm-noisy positions,
 // checked on held-out configurations.
 #include <cmath>
+#include "test_values.hpp"
 #include <fstream>
 #include <random>
 #include <sstream>
@@ -17,7 +18,6 @@
 namespace kiloloop {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 
 KinematicParameters ur5_nominal() {
   KinematicParameters k;

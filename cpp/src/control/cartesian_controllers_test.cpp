@@ -2,6 +2,7 @@
 // law at rest, force regulation against a stiff wall while tracking along it, the bad-input
 // policy, zero allocations and determinism.
 #include <algorithm>
+#include "test_values.hpp"
 #include <cmath>
 #include <cstring>
 #include <random>
@@ -17,7 +18,6 @@
 namespace kiloloop {
 namespace {
 
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 Eigen::VectorXd tool_down_q() {
   return (Eigen::VectorXd(6) << 0.0, -1.2, 1.6, -1.97, -1.57, 0.0).finished();
@@ -147,7 +147,7 @@ TEST_P(HybridOnWall, RegulatesContactForceWhileTrackingAlongTheWall) {
 INSTANTIATE_TEST_SUITE_P(BothMotionWrenches, HybridOnWall, ::testing::Bool());
 
 template <class Controller>
-void expect_bad_input_policy(Controller& c, const RobotModelPtr& model) {
+void expect_cartesian_bad_input_policy(Controller& c, const RobotModelPtr& model) {
   Dynamics dyn;
   std::string why;
   ASSERT_EQ(Dynamics::configure(model, {0, 0, -9.81}, &dyn, &why), Status::kOk);
@@ -193,9 +193,9 @@ void expect_bad_input_policy(Controller& c, const RobotModelPtr& model) {
 TEST(CartesianControllers, BadInputPolicy) {
   const RobotModelPtr model = testing::load_ur5();
   CartesianImpedanceController imp = make_impedance(model);
-  expect_bad_input_policy(imp, model);
+  expect_cartesian_bad_input_policy(imp, model);
   HybridForcePositionController hyb = make_hybrid(model);
-  expect_bad_input_policy(hyb, model);
+  expect_cartesian_bad_input_policy(hyb, model);
   // The measured wrench is a measurement: NaN -> hold.
   CartesianControlInput in = hyb.make_input();
   in.q = tool_down_q();

@@ -1,6 +1,7 @@
 // Tests of both joint-space torque controllers: the law, the bad-input policy, zero allocations,
 // determinism, and closed-loop convergence on the planar arm integrated with its exact dynamics.
 #include <cmath>
+#include "test_values.hpp"
 #include <cstring>
 #include <random>
 
@@ -16,7 +17,6 @@
 namespace kiloloop {
 namespace {
 
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 ComputedTorqueController make_ct(RobotModelPtr model) {
   ComputedTorqueController c;
@@ -82,7 +82,7 @@ TEST(JointPdGravity, EqualsTheTextbookLaw) {
 }
 
 template <class Controller>
-void expect_bad_input_policy(Controller& c, const RobotModelPtr& model) {
+void expect_joint_bad_input_policy(Controller& c, const RobotModelPtr& model) {
   Dynamics dyn;
   std::string why;
   ASSERT_EQ(Dynamics::configure(model, {0, 0, -9.81}, &dyn, &why), Status::kOk);
@@ -137,13 +137,13 @@ void expect_bad_input_policy(Controller& c, const RobotModelPtr& model) {
 TEST(ComputedTorque, BadInputPolicy) {
   const RobotModelPtr model = testing::load_ur5();
   ComputedTorqueController ct = make_ct(model);
-  expect_bad_input_policy(ct, model);
+  expect_joint_bad_input_policy(ct, model);
 }
 
 TEST(JointPdGravity, BadInputPolicy) {
   const RobotModelPtr model = testing::load_ur5();
   JointPdGravityController pd = make_pd(model);
-  expect_bad_input_policy(pd, model);
+  expect_joint_bad_input_policy(pd, model);
 }
 
 TEST(JointControllers, HoldIsZeroTorqueWhenNothingValidWasEverSeen) {

@@ -1,5 +1,6 @@
 // The shared step rules (control/rules.hpp) and StatusCounters (status.hpp).
 #include "kiloloop/control/rules.hpp"
+#include "test_values.hpp"
 
 #include <cmath>
 #include <limits>
@@ -11,8 +12,6 @@
 namespace kiloloop {
 namespace {
 
-constexpr double kInf = std::numeric_limits<double>::infinity();
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 TEST(Rules, ClipEffortClampsAndNeverPassesANonFiniteTorque) {
   const Eigen::Vector4d effort(10.0, 10.0, kInf, 5.0);

@@ -1,4 +1,5 @@
 #include "kiloloop/kinematics/chain_kinematics.hpp"
+#include "kiloloop/model/kdl_eigen.hpp"
 
 #include <cmath>
 
@@ -6,17 +7,6 @@
 
 namespace kiloloop {
 namespace {
-
-Eigen::Isometry3d to_eigen(const KDL::Frame& f) {
-  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-  for (int r = 0; r < 3; ++r) {
-    for (int c = 0; c < 3; ++c) T.linear()(r, c) = f.M(r, c);
-    T.translation()[r] = f.p[r];
-  }
-  return T;
-}
-
-Eigen::Vector3d to_eigen(const KDL::Vector& v) { return Eigen::Vector3d(v.x(), v.y(), v.z()); }
 
 }  // namespace
 

@@ -1,6 +1,7 @@
 // Kinematics for IK: compiled chain FK/Jacobian vs KDL (through Dynamics), the UR closed form,
 // the numeric LM solver and their composition. Seeds are printed in the failure messages.
 #include <cmath>
+#include "test_values.hpp"
 #include <cstdio>
 #include <cstring>
 #include <fstream>
@@ -17,7 +18,6 @@
 namespace kiloloop {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 
 RobotModelPtr load_panda() {
   auto model = std::make_shared<RobotModel>();

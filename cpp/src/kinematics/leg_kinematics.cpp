@@ -1,4 +1,5 @@
 #include "kiloloop/kinematics/leg_kinematics.hpp"
+#include "kiloloop/model/kdl_eigen.hpp"
 
 #include <cmath>
 
@@ -11,8 +12,6 @@ namespace {
 
 constexpr double kAxisTol = 1e-6;  // URDF axes are exact; anything else is a different layout
 constexpr double kFkTol = 1e-9;    // [m] closed form vs KDL at test configurations
-
-Eigen::Vector3d to_eigen(const KDL::Vector& v) { return {v.x(), v.y(), v.z()}; }
 
 // +1 / -1 when a is +-e, 0 otherwise.
 double axis_sign(const Eigen::Vector3d& a, const Eigen::Vector3d& e) {

@@ -5,6 +5,7 @@
 // identified from the joint axes; every solution must reach the target through the chain's own
 // FK, and the configuration that generated the target must be among them.
 #include <cmath>
+#include "test_values.hpp"
 #include <random>
 
 #include <gtest/gtest.h>
@@ -17,7 +18,6 @@
 namespace kiloloop {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 
 std::string link(const char* name) {
   return std::string("<link name=\"") + name +

@@ -1,4 +1,5 @@
 #include "kiloloop/model/chain_folding.hpp"
+#include "kiloloop/model/model_error.hpp"
 
 #include <cmath>
 #include <set>
@@ -7,11 +8,6 @@ namespace kiloloop {
 namespace {
 
 using TreeIt = KDL::SegmentMap::const_iterator;
-
-Status fail(std::string* why, const std::string& msg) {
-  if (why) *why = msg;
-  return Status::kModelError;
-}
 
 bool is_ancestor(const KDL::Tree& tree, const std::string& ancestor, const std::string& of) {
   TreeIt it = tree.getSegment(of);
@@ -46,13 +42,13 @@ KDL::RigidBodyInertia subtree_inertia(TreeIt seg, const std::map<std::string, do
 Status chain_path(const KDL::Tree& tree, const std::string& root, const std::string& tip,
                   std::vector<std::string>* path, std::string* why) {
   const TreeIt end = tree.getSegments().end();
-  if (tree.getSegment(root) == end) return fail(why, "root link '" + root + "' is not in the model");
-  if (tree.getSegment(tip) == end) return fail(why, "tip link '" + tip + "' is not in the model");
+  if (tree.getSegment(root) == end) return model_error(why, "root link '" + root + "' is not in the model");
+  if (tree.getSegment(tip) == end) return model_error(why, "tip link '" + tip + "' is not in the model");
   if (!is_ancestor(tree, root, tip)) {
     if (is_ancestor(tree, tip, root))
-      return fail(why, "chain given tip->root: tip link '" + tip + "' is an ancestor of root link '" +
+      return model_error(why, "chain given tip->root: tip link '" + tip + "' is an ancestor of root link '" +
                            root + "'; swap root and tip");
-    return fail(why, "root link '" + root + "' is not an ancestor of tip link '" + tip +
+    return model_error(why, "root link '" + root + "' is not an ancestor of tip link '" + tip +
                          "' (they are on different branches of the tree)");
   }
   std::vector<std::string> reversed;
@@ -66,16 +62,16 @@ Status fold_off_chain_mass(const KDL::Tree& tree, const std::vector<std::string>
                            const std::map<std::string, double>& locked, KDL::Chain* chain,
                            std::vector<FoldedLink>* folded, std::string* why) {
   if (chain->getNrOfSegments() != path.size())
-    return fail(why, "fold_off_chain_mass: the chain does not match the path");
+    return model_error(why, "fold_off_chain_mass: the chain does not match the path");
   std::set<std::string> tree_joints, chain_joints;
   for (const auto& [name, el] : tree.getSegments()) tree_joints.insert(GetTreeElementSegment(el).getJoint().getName());
   for (const auto& seg : chain->segments)
     if (seg.getJoint().getType() != KDL::Joint::None) chain_joints.insert(seg.getJoint().getName());
   for (const auto& [name, value] : locked) {
-    if (!tree_joints.count(name)) return fail(why, "locked joint '" + name + "' is not a joint of the model");
+    if (!tree_joints.count(name)) return model_error(why, "locked joint '" + name + "' is not a joint of the model");
     if (chain_joints.count(name))
-      return fail(why, "locked joint '" + name + "' is in the chain; only joints off the chain are locked");
-    if (!std::isfinite(value)) return fail(why, "locked joint '" + name + "': position must be finite");
+      return model_error(why, "locked joint '" + name + "' is in the chain; only joints off the chain are locked");
+    if (!std::isfinite(value)) return model_error(why, "locked joint '" + name + "': position must be finite");
   }
   folded->clear();
   for (size_t k = 0; k < path.size(); ++k) {

@@ -1,4 +1,5 @@
 #include "kiloloop/model/model_description.hpp"
+#include "kiloloop/model/model_error.hpp"
 
 #include <set>
 
@@ -35,22 +36,17 @@ KDL::RigidBodyInertia inertia(const SegmentSpec& s) {
   return KDL::RigidBodyInertia(s.mass, origin.p, rotated.getRotationalInertia());
 }
 
-Status fail(std::string* why, const std::string& msg) {
-  if (why) *why = msg;
-  return Status::kModelError;
-}
-
 }  // namespace
 
 Status tree_from_description(const ModelDescription& d, KDL::Tree* out, std::string* why) {
   if (out == nullptr || d.tree_root == nullptr || (d.segment_count > 0 && d.segments == nullptr))
-    return fail(why, "model description: null root or segments");
+    return model_error(why, "model description: null root or segments");
   KDL::Tree tree(d.tree_root);
   for (int k = 0; k < d.segment_count; ++k) {
     const SegmentSpec& s = d.segments[k];
     const KDL::Segment segment(s.link, joint(s), frame(s.origin), inertia(s));
     if (!tree.addSegment(segment, s.parent))
-      return fail(why, std::string("model description: link '") + s.link + "' cannot hang from '" +
+      return model_error(why, std::string("model description: link '") + s.link + "' cannot hang from '" +
                            s.parent + "' (unknown parent or duplicate name)");
   }
   *out = tree;
@@ -77,10 +73,10 @@ Status model_from_description(const ModelDescription& d, const std::string& root
   for (const std::string& name : out->joint_names()) {
     if (!mimic.count(name)) continue;
     if (!out->has_chain())
-      return fail(why, "URDF " + source + ": mimic joint '" + name +
+      return model_error(why, "URDF " + source + ": mimic joint '" + name +
                            "' would be controlled (no tip given: every joint is); give a tip so "
                            "that it is off the chain");
-    return fail(why, "URDF " + source + ": mimic joint '" + name + "' is in the chain '" +
+    return model_error(why, "URDF " + source + ": mimic joint '" + name + "' is in the chain '" +
                          out->root_name() + "' -> '" + out->tip_name() +
                          "'; a controlled chain cannot contain a mimic joint (off the chain it is "
                          "locked)");

@@ -1,4 +1,5 @@
 #include "kiloloop/qp/dense_qp.hpp"
+#include "test_values.hpp"
 
 #include <cmath>
 #include <iostream>
@@ -13,7 +14,6 @@
 namespace kiloloop::qp {
 namespace {
 
-constexpr double kInf = std::numeric_limits<double>::infinity();
 
 struct Qp {
   Eigen::MatrixXd H, A, C;

@@ -1,12 +1,10 @@
 #include "kiloloop/quadruped/attitude_filter.hpp"
+#include "kiloloop/model/gravity.hpp"
 
 #include <algorithm>
 #include <cmath>
 
 namespace kiloloop {
-namespace {
-constexpr double kGravity = 9.81;  // [m/s^2]
-}  // namespace
 
 bool AttitudeFilter::configure(const AttitudeFilterConfig& config, double dt) {
   if (!(config.gyro_noise_density > 0) || !(config.accel_noise_density > 0) ||

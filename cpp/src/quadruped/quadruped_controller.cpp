@@ -1,4 +1,5 @@
 #include "kiloloop/quadruped/quadruped_controller.hpp"
+#include "kiloloop/model/gravity.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -16,8 +17,6 @@
 
 namespace kiloloop {
 namespace {
-
-constexpr double kGravity = 9.81;
 
 // The measured signals the controller uses finite and within_sane_range (control/sane_range.hpp:
 // a finite value beyond it, such as 1e308, can only be a fault and would overflow the estimate

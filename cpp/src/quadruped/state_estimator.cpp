@@ -8,7 +8,7 @@
 
 namespace kiloloop {
 namespace {
-const Eigen::Vector3d kGravity(0.0, 0.0, -9.81);
+const Eigen::Vector3d kGravityWorld(0.0, 0.0, -9.81);
 Status fail_attitude(std::string* why) {  // validate() passed: cannot happen, kept as a guard
   if (why) *why = "estimator: attitude filter refused its settings";
   return Status::kInvalidConfig;
@@ -92,7 +92,7 @@ Status StateEstimator::update(const Eigen::Vector3d& gyro, const Eigen::Vector3d
   aligning_ = !cfg_.external_attitude && attitude_.aligning();
 
   // Predict with the accelerometer's specific force.
-  const Eigen::Vector3d a = R * accel + kGravity;
+  const Eigen::Vector3d a = R * accel + kGravityWorld;
   x_.head<3>() += dt * x_.tail<3>() + 0.5 * dt * dt * a;
   x_.tail<3>() += dt * a;
   Eigen::Matrix<double, 6, 6> F = Eigen::Matrix<double, 6, 6>::Identity();

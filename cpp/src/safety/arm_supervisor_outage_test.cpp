@@ -14,7 +14,6 @@
 namespace kiloloop {
 namespace {
 
-Eigen::VectorXd home() { return (Eigen::VectorXd(6) << 0.0, -1.2, 1.6, -1.97, -1.57, 0.0).finished(); }
 
 const Eigen::VectorXd& qd_cmd() {
   static const Eigen::VectorXd v = (Eigen::VectorXd(6) << 1.0, -0.6, 0.8, 0.5, -1.0, 1.2).finished();
@@ -26,7 +25,7 @@ struct Rig {
   RobotModelPtr model = testing::load_ur5();
   ArmSupervisor sup;
   Dynamics dyn;
-  testing::ArmSim sim{model, home()};
+  testing::ArmSim sim{model, testing::ur5_home()};
   SupervisorInput in;
   SupervisorOutput out;
 

@@ -15,7 +15,6 @@
 namespace kiloloop {
 namespace {
 
-Eigen::VectorXd home() { return (Eigen::VectorXd(6) << 0.0, -1.2, 1.6, -1.97, -1.57, 0.0).finished(); }
 
 ArmSupervisor make_supervisor(RobotModelPtr model, ArmSupervisorConfig cfg = {}) {
   ArmSupervisor s;
@@ -40,7 +39,7 @@ TEST(ArmSupervisor, EstopStopsWithinPlannedTimeAndDistanceThenHolds) {
   Dynamics dyn;
   std::string why;
   Dynamics::configure(model, {0, 0, -9.81}, &dyn, &why);
-  testing::ArmSim sim(model, home());
+  testing::ArmSim sim(model, testing::ur5_home());
   SupervisorInput in = sup.make_input();
   SupervisorOutput out = sup.make_output();
   const Eigen::VectorXd qd_cmd = (Eigen::VectorXd(6) << 1.0, -0.6, 0.8, 0.5, -1.0, 1.2).finished();
@@ -115,7 +114,7 @@ TEST(ArmSupervisor, EachLimitTrips) {
   {  // velocity
     ArmSupervisor sup = make_supervisor(model);
     EXPECT_EQ(run_synthetic(sup, 100, [](double, SupervisorInput& in) {
-                in.q = home();
+                in.q = testing::ur5_home();
                 in.qd.setZero();
                 in.qd[1] = 3.5;  // > 3.15 rad/s
               }), Status::kLimitViolation);
@@ -128,7 +127,7 @@ TEST(ArmSupervisor, EachLimitTrips) {
     ArmSupervisor sup = make_supervisor(model, cfg);
     double q_trip = 0.0;
     run_synthetic(sup, 2000, [&](double t, SupervisorInput& in) {
-      in.q = home();
+      in.q = testing::ur5_home();
       in.qd.setZero();
       in.q[0] = 0.5 * t;  // toward 1.0 at 0.5 rad/s; braking distance 0.25^2/8 = 0.031 rad
       in.qd[0] = 0.5;
@@ -141,7 +140,7 @@ TEST(ArmSupervisor, EachLimitTrips) {
   {  // acceleration
     ArmSupervisor sup = make_supervisor(model);
     EXPECT_EQ(run_synthetic(sup, 200, [](double t, SupervisorInput& in) {
-                in.q = home();
+                in.q = testing::ur5_home();
                 in.qd.setZero();
                 in.qd[2] = 30.0 * t;  // 30 rad/s^2 > 20
               }), Status::kLimitViolation);
@@ -150,7 +149,7 @@ TEST(ArmSupervisor, EachLimitTrips) {
   {  // a NaN command from the controller stops the arm
     ArmSupervisor sup = make_supervisor(model);
     EXPECT_EQ(run_synthetic(sup, 10, [](double, SupervisorInput& in) {
-                in.q = home();
+                in.q = testing::ur5_home();
                 in.tau_command[3] = std::nan("");
               }), Status::kNonFiniteReference);
   }
@@ -162,7 +161,7 @@ TEST(ArmSupervisor, SustainedOverloadTripsBriefOverloadDoesNot) {
   {  // 100 ms at the full effort limit (4x the rated I^2): clipped, no trip
     ArmSupervisor sup = make_supervisor(model, cfg);
     EXPECT_EQ(run_synthetic(sup, 1000, [](double t, SupervisorInput& in) {
-                in.q = home();
+                in.q = testing::ur5_home();
                 in.tau_command.setZero();
                 if (t < 0.1) in.tau_command[1] = 200.0;  // above 150: clipped
               }), Status::kOk);
@@ -173,7 +172,7 @@ TEST(ArmSupervisor, SustainedOverloadTripsBriefOverloadDoesNot) {
     ArmSupervisor sup = make_supervisor(model, cfg);
     double t_trip = -1.0;
     EXPECT_EQ(run_synthetic(sup, 100, [&](double t, SupervisorInput& in) {
-                in.q = home();
+                in.q = testing::ur5_home();
                 in.tau_command.setZero();
                 if (t >= 0.05) in.tau_command[4] = -50.0;  // wrist: 28 N m effort
                 t_trip = t;
@@ -185,7 +184,7 @@ TEST(ArmSupervisor, SustainedOverloadTripsBriefOverloadDoesNot) {
     ArmSupervisor sup = make_supervisor(model, cfg);
     double t_trip = 0.0;
     EXPECT_EQ(run_synthetic(sup, 3000, [&](double t, SupervisorInput& in) {
-                in.q = home();
+                in.q = testing::ur5_home();
                 in.tau_command.setZero();
                 in.tau_command[1] = 120.0;
                 t_trip = t;
@@ -204,7 +203,7 @@ TEST(SingularityMonitor, WarnsBeforeTheElbowStraightens) {
   for (int k = 0; k <= 2000; ++k) {
     const double t = k * 1e-3;
     in.t = in.stamp = t;
-    in.q = home();
+    in.q = testing::ur5_home();
     in.q[2] = 1.6 - 0.8 * t;
     in.qd.setZero();
     in.qd[2] = -0.8;
@@ -226,7 +225,7 @@ TEST(SingularityMonitor, WarnsBeforeTheElbowStraightens) {
   std::string why;
   Dynamics::configure(model, {0, 0, -9.81}, &dyn, &why);
   Eigen::MatrixXd J(6, 6);
-  dyn.jacobian(home(), J);
+  dyn.jacobian(testing::ur5_home(), J);
   SingularityState st;
   EXPECT_EQ(mon.update(J, 0.0, &st), Status::kOk);
   EXPECT_GT(st.manipulability, 0.005);
@@ -249,7 +248,7 @@ TEST(SingularityMonitor, RateTestWarnsEarlierWhenApproachingFast) {
     Eigen::MatrixXd J(6, 6);
     SingularityState st;
     for (int k = 0; k <= 2000; ++k) {
-      Eigen::VectorXd q = home();
+      Eigen::VectorXd q = testing::ur5_home();
       q[2] = 1.6 - 0.8 * k * 1e-3;  // elbow opening at 0.8 rad/s
       dyn.jacobian(q, J);
       if (mon.update(J, 1e-3, &st) == Status::kNearSingularity) return q[2];
@@ -268,7 +267,7 @@ TEST(ArmSupervisor, BadInputsAndZeroAllocations) {
   ArmSupervisor sup = make_supervisor(model);
   SupervisorInput in = sup.make_input();
   SupervisorOutput out = sup.make_output();
-  in.q = home();
+  in.q = testing::ur5_home();
   ASSERT_TRUE(ok(sup.step(in, out)));
   SupervisorInput bad = in;
   bad.q[0] = NAN;
@@ -316,7 +315,7 @@ TEST(ArmSupervisor, SameInputsGiveBitIdenticalOutputs) {
   SupervisorOutput oa = a.make_output(), ob = b.make_output();
   for (int k = 0; k < 1500; ++k) {
     in.t = in.stamp = k * 1e-3;
-    in.q = home();
+    in.q = testing::ur5_home();
     in.q[0] = 0.3 * std::sin(2.0 * in.t);
     in.qd.setZero();
     in.qd[0] = 0.6 * std::cos(2.0 * in.t);
