@@ -40,7 +40,9 @@ Eigen::Quaterniond AttitudeFilter::from_gravity(const Eigen::Vector3d& accel) no
                             Eigen::AngleAxisd(roll, Eigen::Vector3d::UnitX()));
 }
 
-void AttitudeFilter::update(const Eigen::Vector3d& gyro, const Eigen::Vector3d& accel) noexcept {
+void AttitudeFilter::update(const Eigen::Vector3d& gyro, const Eigen::Vector3d& specific_force,
+                            const Eigen::Vector3d& trunk_accel) noexcept {
+  const Eigen::Vector3d accel = specific_force - trunk_accel;  // gravity's reaction, "up" [m/s^2]
   Eigen::Vector3d e = Eigen::Vector3d::Zero();
   double w = 0.0;
   const double norm = accel.norm();

@@ -109,5 +109,24 @@ TEST(AttitudeFilter, IgnoresTheAccelerometerAwayFromOneG) {
   EXPECT_GT(roll_of(f.orientation()), 0.05);
 }
 
+// A level trunk accelerating sideways at 2 m/s^2: the specific force leans by atan(2 / g) = 11.5
+// deg, and the filter alone follows it (1 / k_p = 0.7 s, 3 s here); handed the trunk's
+// acceleration (velocity aiding) it removes it and stays level.
+TEST(AttitudeFilter, RemovesTheTrunkAccelerationItIsHanded) {
+  const double dt = 0.001;
+  const Eigen::Vector3d accel(0.0, 2.0, 0.0);
+  const Eigen::Vector3d f = accel + Eigen::Vector3d(0, 0, kG);  // level: body = world
+  AttitudeFilter plain, aided;
+  ASSERT_TRUE(plain.configure(AttitudeFilterConfig{}, dt));
+  ASSERT_TRUE(aided.configure(AttitudeFilterConfig{}, dt));
+  for (int k = 0; k < 3000; ++k) {
+    plain.update(Eigen::Vector3d::Zero(), f);
+    aided.update(Eigen::Vector3d::Zero(), f, accel);
+  }
+  EXPECT_GT(roll_of(plain.orientation()), 5.0 * M_PI / 180.0);
+  EXPECT_NEAR(roll_of(aided.orientation()), 0.0, 1e-9);
+  EXPECT_NEAR(pitch_of(aided.orientation()), 0.0, 1e-9);
+}
+
 }  // namespace
 }  // namespace kiloloop

@@ -6,8 +6,11 @@
 //   e  = (a / |a|) x v             rotation from the estimate's up to the measured one [rad]
 //   b <- b - k_i w e dt            gyro-bias estimate (clamped to +-max_gyro_bias)
 //   R <- R exp((gyro - b + k_p w e) dt)
-// The accelerometer measures gravity only when the trunk does not accelerate; its weight w falls
-// linearly from 1 at |a| = g to 0 at | |a| - g | = accel_tolerance g (stance impacts, hops).
+// The accelerometer measures the specific force f = a_trunk - g: gravity only when the trunk does
+// not accelerate. The caller may hand over its own estimate of the trunk's acceleration (body
+// frame, e.g. from leg odometry: StateEstimator) and a = f - a_trunk is taken as the gravity
+// measurement instead (velocity aiding). The weight w falls linearly from 1 at |a| = g to 0 at
+// | |a| - g | = accel_tolerance g (stance impacts, hops).
 // Gravity says nothing about yaw: the yaw estimate follows the gyro and drifts with its z bias.
 // Gains from the IMU's noise densities (Allan parameters): for small angles each tilt axis is a
 // random walk driven by the gyro's white noise (density N_g) and measured by the accelerometer's
@@ -47,8 +50,11 @@ class AttitudeFilter {
   // Roll and pitch that put the measured specific force straight up, yaw 0; identity when the
   // accelerometer does not see about 1 g (falling, or a bad reading).
   static Eigen::Quaterniond from_gravity(const Eigen::Vector3d& accel) noexcept;
-  // One tick: gyro [rad/s] and accel [m/s^2] in the body frame (finite: the caller checks).
-  void update(const Eigen::Vector3d& gyro, const Eigen::Vector3d& accel) noexcept;
+  // One tick: gyro [rad/s], accel (specific force) and trunk_accel (the caller's estimate of the
+  // trunk's acceleration, removed from accel; zero: none) [m/s^2], all in the body frame
+  // (finite: the caller checks).
+  void update(const Eigen::Vector3d& gyro, const Eigen::Vector3d& accel,
+              const Eigen::Vector3d& trunk_accel = Eigen::Vector3d::Zero()) noexcept;
   const Eigen::Quaterniond& orientation() const { return q_; }  // world <- body
   const Eigen::Vector3d& gyro_bias() const { return bias_; }    // [rad/s]
   const Eigen::Vector3d& rate() const { return rate_; }         // [rad/s] gyro - bias
