@@ -104,10 +104,13 @@ class StateEstimator {
 
  private:
   void update_orientation(const Eigen::Vector3d& gyro, const Eigen::Vector3d& accel,
-                          const Eigen::Quaterniond& q_imu, const Eigen::Vector3d& trunk_accel) noexcept;
+                          const Eigen::Quaterniond& q_imu, bool aided) noexcept;
   void fit_ground() noexcept;
   // The velocity filter's trunk acceleration [m/s^2, body frame] of the last tick (velocity aiding).
   Eigen::Vector3d trunk_acceleration(const Eigen::Vector3d& accel) const noexcept;
+  // Weight in [0, 1] of the aided tilt reading: 0 once the legs' correction exceeds what a tilt
+  // error can explain (velocity_correction_ above g).
+  double aiding_weight() const noexcept;
 
   EstimatorConfig cfg_;
   bool initialised_ = false;
