@@ -26,6 +26,7 @@ void bind_quadruped(py::module_& m) {
       .def_readwrite("external_attitude", &EstimatorConfig::external_attitude)
       .def_readwrite("attitude", &EstimatorConfig::attitude)
       .def_readwrite("attitude_gain", &EstimatorConfig::attitude_gain)
+      .def_readwrite("velocity_aiding", &EstimatorConfig::velocity_aiding)
       .def_readwrite("accel_noise", &EstimatorConfig::accel_noise)
       .def_readwrite("leg_velocity_noise", &EstimatorConfig::leg_velocity_noise)
       .def_readwrite("foothold_noise", &EstimatorConfig::foothold_noise)

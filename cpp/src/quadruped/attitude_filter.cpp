@@ -38,14 +38,32 @@ Eigen::Quaterniond AttitudeFilter::from_gravity(const Eigen::Vector3d& accel) no
                             Eigen::AngleAxisd(roll, Eigen::Vector3d::UnitX()));
 }
 
-void AttitudeFilter::update(const Eigen::Vector3d& gyro, const Eigen::Vector3d& accel) noexcept {
-  Eigen::Vector3d e = Eigen::Vector3d::Zero();
-  double w = 0.0;
+double AttitudeFilter::gate(const Eigen::Vector3d& accel) const noexcept {
   const double norm = accel.norm();
-  if (norm > 1e-3 * kGravity && std::isfinite(norm)) {
-    w = std::clamp(1.0 - std::abs(norm - kGravity) / (cfg_.accel_tolerance * kGravity), 0.0, 1.0);
+  return norm > 1e-3 * kGravity && std::isfinite(norm)
+             ? std::clamp(1.0 - std::abs(norm - kGravity) / (cfg_.accel_tolerance * kGravity), 0.0, 1.0)
+             : 0.0;
+}
+
+void AttitudeFilter::update(const Eigen::Vector3d& gyro, const Eigen::Vector3d& specific_force) noexcept {
+  correct(gyro, specific_force, gate(specific_force));
+}
+
+void AttitudeFilter::update_aided(const Eigen::Vector3d& gyro, const Eigen::Vector3d& specific_force,
+                                  const Eigen::Vector3d& trunk_accel, double weight) noexcept {
+  const Eigen::Vector3d up = specific_force - trunk_accel;  // gravity's reaction [m/s^2]
+  const double norm = up.norm();
+  const double w = !(norm > 1e-3 * kGravity && std::isfinite(norm)) ? 0.0
+                   : aligning() ? std::min(gate(up), std::clamp(weight, 0.0, 1.0))
+                                : std::clamp(weight, 0.0, 1.0);
+  correct(gyro, up, w);
+}
+
+void AttitudeFilter::correct(const Eigen::Vector3d& gyro, const Eigen::Vector3d& accel, double w) noexcept {
+  Eigen::Vector3d e = Eigen::Vector3d::Zero();
+  if (w > 0.0) {
     const Eigen::Vector3d up = q_.conjugate() * Eigen::Vector3d::UnitZ();
-    e = (accel / norm).cross(up);
+    e = accel.normalized().cross(up);
   }
   aligned_time_ = std::min(aligned_time_ + w * dt_, 1e6);
   const double kp = aligned_time_ > 0.0 ? std::min(std::max(kp_, 1.0 / aligned_time_), 1.0 / dt_) : kp_;

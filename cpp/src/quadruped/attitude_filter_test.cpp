@@ -109,5 +109,57 @@ TEST(AttitudeFilter, IgnoresTheAccelerometerAwayFromOneG) {
   EXPECT_GT(roll_of(f.orientation()), 0.05);
 }
 
+// A level trunk accelerating sideways at 2 m/s^2: the specific force leans by atan(2 / g) = 11.5
+// deg, and the filter alone follows it (1 / k_p = 0.7 s, 3 s here); handed the trunk's
+// acceleration (velocity aiding) it removes it and stays level.
+TEST(AttitudeFilter, RemovesTheTrunkAccelerationItIsHanded) {
+  const double dt = 0.001;
+  const Eigen::Vector3d accel(0.0, 2.0, 0.0);
+  const Eigen::Vector3d f = accel + Eigen::Vector3d(0, 0, kG);  // level: body = world
+  AttitudeFilter plain, aided;
+  ASSERT_TRUE(plain.configure(AttitudeFilterConfig{}, dt));
+  ASSERT_TRUE(aided.configure(AttitudeFilterConfig{}, dt));
+  for (int k = 0; k < 3000; ++k) {
+    plain.update(Eigen::Vector3d::Zero(), f);
+    aided.update_aided(Eigen::Vector3d::Zero(), f, accel);
+  }
+  EXPECT_GT(roll_of(plain.orientation()), 5.0 * M_PI / 180.0);
+  EXPECT_NEAR(roll_of(aided.orientation()), 0.0, 1e-9);
+  EXPECT_NEAR(pitch_of(aided.orientation()), 0.0, 1e-9);
+}
+
+// After the start-up alignment (1 s level here) an aided reading off g (1.5 g, as when the legs
+// correct vertically and horizontally at once) still counts in full: the filter turns to its
+// direction, where the raw accelerometer's gate (accel_tolerance 0.2) ignores the same reading.
+TEST(AttitudeFilter, CountsAnAidedReadingOffGOnceAligned) {
+  const double dt = 0.001;
+  const Eigen::Vector3d reading = 1.5 * kG * Eigen::Vector3d(0.0, std::sin(0.05), std::cos(0.05));
+  AttitudeFilter plain, aided;
+  ASSERT_TRUE(plain.configure(AttitudeFilterConfig{}, dt));
+  ASSERT_TRUE(aided.configure(AttitudeFilterConfig{}, dt));
+  for (int k = 0; k < 1000; ++k) {
+    plain.update(Eigen::Vector3d::Zero(), Eigen::Vector3d(0, 0, kG));
+    aided.update(Eigen::Vector3d::Zero(), Eigen::Vector3d(0, 0, kG));
+  }
+  ASSERT_FALSE(aided.aligning());
+  for (int k = 0; k < 8000; ++k) {
+    plain.update(Eigen::Vector3d::Zero(), reading);
+    aided.update_aided(Eigen::Vector3d::Zero(), reading, Eigen::Vector3d::Zero());
+  }
+  EXPECT_NEAR(roll_of(plain.orientation()), 0.0, 1e-12);
+  EXPECT_NEAR(roll_of(aided.orientation()), 0.05, 2e-3);
+}
+
+// In the start-up alignment (gain 1 / T: one reading moves the estimate by much of its tilt) the
+// aided reading is gated as the raw one: the same 1.5 g reading is ignored.
+TEST(AttitudeFilter, GatesAnAidedReadingWhileAligning) {
+  const Eigen::Vector3d reading = 1.5 * kG * Eigen::Vector3d(0.0, std::sin(0.05), std::cos(0.05));
+  AttitudeFilter f;
+  ASSERT_TRUE(f.configure(AttitudeFilterConfig{}, 0.001));
+  for (int k = 0; k < 100; ++k) f.update_aided(Eigen::Vector3d::Zero(), reading, Eigen::Vector3d::Zero());
+  EXPECT_TRUE(f.aligning());
+  EXPECT_NEAR(roll_of(f.orientation()), 0.0, 1e-12);
+}
+
 }  // namespace
 }  // namespace kiloloop
