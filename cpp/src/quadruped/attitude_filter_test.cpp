@@ -2,6 +2,8 @@
 // the gyro bias learnt on the tilt axes (not on yaw: unobservable), the accelerometer ignored
 // away from 1 g.
 #include "kiloloop/quadruped/attitude_filter.hpp"
+#include "kiloloop/model/gravity.hpp"
+#include "attitude_angles.hpp"
 
 #include <cmath>
 #include <random>
@@ -11,18 +13,8 @@
 namespace kiloloop {
 namespace {
 
-constexpr double kG = 9.81;
-
-double roll_of(const Eigen::Quaterniond& q) {
-  const Eigen::Matrix3d R = q.toRotationMatrix();
-  return std::atan2(R(2, 1), R(2, 2));
-}
-double pitch_of(const Eigen::Quaterniond& q) {
-  const Eigen::Matrix3d R = q.toRotationMatrix();
-  return std::asin(-R(2, 0));
-}
 // Specific force of a trunk at rest with orientation q (world <- body), body frame.
-Eigen::Vector3d at_rest(const Eigen::Quaterniond& q) { return q.conjugate() * Eigen::Vector3d(0, 0, kG); }
+Eigen::Vector3d at_rest(const Eigen::Quaterniond& q) { return q.conjugate() * Eigen::Vector3d(0, 0, kGravity); }
 
 TEST(AttitudeFilter, TiltFromGravity) {
   const Eigen::Quaterniond q(Eigen::AngleAxisd(0.2, Eigen::Vector3d::UnitY()) *
@@ -37,7 +29,7 @@ TEST(AttitudeFilter, TiltFromGravity) {
 TEST(AttitudeFilter, DerivesTheCrossoverFromTheNoiseDensities) {
   AttitudeFilter f;
   ASSERT_TRUE(f.configure(AttitudeFilterConfig{}, 0.001));
-  EXPECT_NEAR(f.config().crossover, 2.44e-4 * kG / 1.72e-3, 1e-12);
+  EXPECT_NEAR(f.config().crossover, 2.44e-4 * kGravity / 1.72e-3, 1e-12);
   AttitudeFilterConfig bad;
   bad.accel_noise_density = 0.0;
   EXPECT_FALSE(f.configure(bad, 0.001));
@@ -101,11 +93,11 @@ TEST(AttitudeFilter, IgnoresTheAccelerometerAwayFromOneG) {
   AttitudeFilter f;
   ASSERT_TRUE(f.configure(AttitudeFilterConfig{}, dt));
   // 1.5 g straight down the body's y axis (an impact): beyond accel_tolerance, no pull.
-  for (int k = 0; k < 1000; ++k) f.update(Eigen::Vector3d::Zero(), Eigen::Vector3d(0, 1.5 * kG, 0));
+  for (int k = 0; k < 1000; ++k) f.update(Eigen::Vector3d::Zero(), Eigen::Vector3d(0, 1.5 * kGravity, 0));
   EXPECT_TRUE(f.orientation().isApprox(Eigen::Quaterniond::Identity(), 1e-12));
   EXPECT_TRUE(f.gyro_bias().isZero());
   // At 1 g the same direction pulls the estimate toward a 90 deg roll.
-  for (int k = 0; k < 100; ++k) f.update(Eigen::Vector3d::Zero(), Eigen::Vector3d(0, kG, 0));
+  for (int k = 0; k < 100; ++k) f.update(Eigen::Vector3d::Zero(), Eigen::Vector3d(0, kGravity, 0));
   EXPECT_GT(roll_of(f.orientation()), 0.05);
 }
 
@@ -115,7 +107,7 @@ TEST(AttitudeFilter, IgnoresTheAccelerometerAwayFromOneG) {
 TEST(AttitudeFilter, RemovesTheTrunkAccelerationItIsHanded) {
   const double dt = 0.001;
   const Eigen::Vector3d accel(0.0, 2.0, 0.0);
-  const Eigen::Vector3d f = accel + Eigen::Vector3d(0, 0, kG);  // level: body = world
+  const Eigen::Vector3d f = accel + Eigen::Vector3d(0, 0, kGravity);  // level: body = world
   AttitudeFilter plain, aided;
   ASSERT_TRUE(plain.configure(AttitudeFilterConfig{}, dt));
   ASSERT_TRUE(aided.configure(AttitudeFilterConfig{}, dt));
@@ -133,13 +125,13 @@ TEST(AttitudeFilter, RemovesTheTrunkAccelerationItIsHanded) {
 // direction, where the raw accelerometer's gate (accel_tolerance 0.2) ignores the same reading.
 TEST(AttitudeFilter, CountsAnAidedReadingOffGOnceAligned) {
   const double dt = 0.001;
-  const Eigen::Vector3d reading = 1.5 * kG * Eigen::Vector3d(0.0, std::sin(0.05), std::cos(0.05));
+  const Eigen::Vector3d reading = 1.5 * kGravity * Eigen::Vector3d(0.0, std::sin(0.05), std::cos(0.05));
   AttitudeFilter plain, aided;
   ASSERT_TRUE(plain.configure(AttitudeFilterConfig{}, dt));
   ASSERT_TRUE(aided.configure(AttitudeFilterConfig{}, dt));
   for (int k = 0; k < 1000; ++k) {
-    plain.update(Eigen::Vector3d::Zero(), Eigen::Vector3d(0, 0, kG));
-    aided.update(Eigen::Vector3d::Zero(), Eigen::Vector3d(0, 0, kG));
+    plain.update(Eigen::Vector3d::Zero(), Eigen::Vector3d(0, 0, kGravity));
+    aided.update(Eigen::Vector3d::Zero(), Eigen::Vector3d(0, 0, kGravity));
   }
   ASSERT_FALSE(aided.aligning());
   for (int k = 0; k < 8000; ++k) {
@@ -153,7 +145,7 @@ TEST(AttitudeFilter, CountsAnAidedReadingOffGOnceAligned) {
 // In the start-up alignment (gain 1 / T: one reading moves the estimate by much of its tilt) the
 // aided reading is gated as the raw one: the same 1.5 g reading is ignored.
 TEST(AttitudeFilter, GatesAnAidedReadingWhileAligning) {
-  const Eigen::Vector3d reading = 1.5 * kG * Eigen::Vector3d(0.0, std::sin(0.05), std::cos(0.05));
+  const Eigen::Vector3d reading = 1.5 * kGravity * Eigen::Vector3d(0.0, std::sin(0.05), std::cos(0.05));
   AttitudeFilter f;
   ASSERT_TRUE(f.configure(AttitudeFilterConfig{}, 0.001));
   for (int k = 0; k < 100; ++k) f.update_aided(Eigen::Vector3d::Zero(), reading, Eigen::Vector3d::Zero());

@@ -173,7 +173,7 @@ Eigen::Vector3d StateEstimator::trunk_acceleration(const Eigen::Vector3d& accel)
   // R^T (g - c): exact gravity when the estimate is right (c = 0), tilted by what the legs had to
   // correct otherwise.
   const Eigen::Quaterniond& q = attitude_.orientation();
-  return q.conjugate() * (q * accel + kGravity + velocity_correction_);
+  return q.conjugate() * (q * accel + kGravityWorld + velocity_correction_);
 }
 
 double StateEstimator::aiding_weight() const noexcept {
@@ -185,7 +185,7 @@ double StateEstimator::aiding_weight() const noexcept {
   // stop 8 ticks late; Go1: 28, and 15 with this weight. The scenario's shove at 0.5 s lands in
   // the start-up alignment, where AttitudeFilter also gates the aided reading as the raw one: 0
   // late on both). Full weight up to g, none from (1 + accel_tolerance) g.
-  const double g = -kGravity.z();
+  const double g = -kGravityWorld.z();
   const double over = velocity_correction_.norm() / g - 1.0;
   return std::clamp(1.0 - over / cfg_.attitude.accel_tolerance, 0.0, 1.0);
 }

@@ -2,6 +2,8 @@
 // plus the legs' correction) is removed from the accelerometer before the attitude filter takes it
 // as gravity.
 #include "kiloloop/quadruped/state_estimator.hpp"
+#include "kiloloop/model/gravity.hpp"
+#include "attitude_angles.hpp"
 
 #include <cmath>
 
@@ -9,13 +11,6 @@
 
 namespace kiloloop {
 namespace {
-
-constexpr double kG = 9.81;
-
-double roll_of(const Eigen::Quaterniond& q) {
-  const Eigen::Matrix3d R = q.toRotationMatrix();
-  return std::atan2(R(2, 1), R(2, 2));
-}
 
 // A level trunk trotting round a bend: 0.5 m/s forward (body x) turning at 0.5 rad/s, four feet
 // on the ground. In the body frame v_b is constant and the trunk's acceleration is the centripetal
@@ -30,7 +25,7 @@ double roll_error_in_a_turn(bool aiding) {
   std::string why;
   EXPECT_EQ(estimator.configure(config, &why), Status::kOk) << why;
   const Eigen::Vector3d w(0.0, 0.0, 0.5), v(0.5, 0.0, 0.0);  // [rad/s], [m/s] body frame
-  const Eigen::Vector3d f = w.cross(v) + Eigen::Vector3d(0.0, 0.0, kG);
+  const Eigen::Vector3d f = w.cross(v) + Eigen::Vector3d(0.0, 0.0, kGravity);
   std::array<LegMeasurement, StateEstimator::kLegs> legs;
   const double x[4] = {0.2, 0.2, -0.2, -0.2}, y[4] = {0.1, -0.1, 0.1, -0.1};
   for (int i = 0; i < StateEstimator::kLegs; ++i) {
