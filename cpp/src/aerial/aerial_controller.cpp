@@ -13,8 +13,6 @@ namespace kiloloop {
 
 namespace {
 
-Eigen::Vector3d eig(const KDL::Vector& v) { return {v.x(), v.y(), v.z()}; }
-
 Eigen::Matrix3d eig(const KDL::RotationalInertia& I) {
   Eigen::Matrix3d out;
   for (int r = 0; r < 3; ++r)
@@ -133,7 +131,7 @@ Status AerialController::configure(const AerialConfig& config, RobotModelPtr mod
     if (why) *why = "AerialController: the body link '" + base + "' has no mass";
     return Status::kModelError;
   }
-  c.c_body_ = eig(Ib.getCOG());
+  c.c_body_ = to_eigen(Ib.getCOG());
   c.J_body_ = eig(Ib.RefPoint(to_kdl(c.c_body_)).getRotationalInertia());
   // The rigid vehicle: body plus the arm frozen at its nominal pose, about the body CoM.
   KDL::RigidBodyInertia total = Ib;
@@ -153,7 +151,7 @@ Status AerialController::configure(const AerialConfig& config, RobotModelPtr mod
     }
   }
   c.m_total_ = total.getMass();
-  c.c_vehicle_ = eig(total.getCOG());
+  c.c_vehicle_ = to_eigen(total.getCOG());
   c.J_rigid_ = eig(total.RefPoint(to_kdl(c.c_body_)).getRotationalInertia());
 
   s = PositionController::configure(c.cfg_.position, &c.position_, why);

@@ -1,4 +1,5 @@
 #include "kiloloop/dynamics/chain_rne.hpp"
+#include "kiloloop/model/kdl_eigen.hpp"
 
 #include <cmath>
 
@@ -10,15 +11,6 @@
 namespace kiloloop {
 
 namespace {
-Eigen::Vector3d vec(const KDL::Vector& v) { return {v.x(), v.y(), v.z()}; }
-
-Eigen::Matrix3d mat(const KDL::Rotation& r) {
-  Eigen::Matrix3d m;
-  for (int i = 0; i < 3; ++i)
-    for (int j = 0; j < 3; ++j) m(i, j) = r(i, j);
-  return m;
-}
-
 // Rotation by angle about the unit axis a (Rodrigues, as KDL::Rotation::Rot2).
 Eigen::Matrix3d axis_rotation(const Eigen::Vector3d& a, double c, double s) noexcept {
   const double t = 1.0 - c;
@@ -46,15 +38,15 @@ Status ChainRne::configure(const KDL::Chain& chain, ChainRne* out, std::string* 
     // KDL's segment pose is joint.pose(q) * f_tip with f_tip = joint.pose(0)^-1 getFrameToTip()
     // (Segment keeps that private): the tip frame after the joint's own offset.
     const KDL::Frame tip = joint.pose(0.0).Inverse() * seg.getFrameToTip();
-    s.tip_rot = mat(tip.M);
-    s.tip_pos = vec(tip.p);
+    s.tip_rot = to_eigen(tip.M);
+    s.tip_pos = to_eigen(tip.p);
     s.axis = Eigen::Vector3d::Zero();
     s.origin = Eigen::Vector3d::Zero();
     s.s_lin = s.s_ang = Eigen::Vector3d::Zero();
     if (s.kind != Kind::kFixed) {
       s.joint = r.nq_++;
-      s.axis = vec(joint.JointAxis()).normalized();
-      s.origin = vec(joint.JointOrigin());
+      s.axis = to_eigen(joint.JointAxis()).normalized();
+      s.origin = to_eigen(joint.JointOrigin());
       s.rotor_inertia = joint.getInertia();
       // S in the tip frame: rotation about the axis through the joint origin, whose tip-frame
       // expression does not depend on q (the joint's rotation leaves its own axis fixed).
@@ -67,7 +59,7 @@ Status ChainRne::configure(const KDL::Chain& chain, ChainRne* out, std::string* 
     }
     const KDL::RigidBodyInertia& I = seg.getInertia();
     s.mass = I.getMass();
-    s.h = s.mass * vec(I.getCOG());
+    s.h = s.mass * to_eigen(I.getCOG());
     const KDL::RotationalInertia Io = I.getRotationalInertia();
     for (int a = 0; a < 3; ++a)
       for (int b = 0; b < 3; ++b) s.inertia(a, b) = Io.data[3 * a + b];
@@ -84,8 +76,8 @@ Status ChainRne::configure(const KDL::Chain& chain, ChainRne* out, std::string* 
       const KDL::Frame f = chain.getSegment(i).pose(q);
       const KDL::Twist t = chain.getSegment(i).twist(q, 1.0);
       const KDL::Twist S = f.M.Inverse(t);
-      const double err = (mat(f.M) - x.rot).cwiseAbs().maxCoeff() + (vec(f.p) - x.pos).cwiseAbs().maxCoeff() +
-                         (vec(S.vel) - s.s_lin).cwiseAbs().maxCoeff() + (vec(S.rot) - s.s_ang).cwiseAbs().maxCoeff();
+      const double err = (to_eigen(f.M) - x.rot).cwiseAbs().maxCoeff() + (to_eigen(f.p) - x.pos).cwiseAbs().maxCoeff() +
+                         (to_eigen(S.vel) - s.s_lin).cwiseAbs().maxCoeff() + (to_eigen(S.rot) - s.s_ang).cwiseAbs().maxCoeff();
       if (!(err < 1e-9 * (1.0 + s.tip_pos.norm() + s.origin.norm()))) {
         if (why) *why = "ChainRne: joint '" + chain.getSegment(i).getJoint().getName() +
                         "' has a scale or offset this pass does not model";
@@ -117,9 +109,9 @@ Status ChainRne::configure(const KDL::Chain& chain, ChainRne* out, std::string* 
       }
       Segment s = in[i];
       if (!kept.empty()) {  // re-express the joint and its tip in the last kept segment's frame
-        const Eigen::Matrix3d R = mat(F.M);
+        const Eigen::Matrix3d R = to_eigen(F.M);
         s.axis = R * in[i].axis;
-        s.origin = vec(F.p) + R * in[i].origin;
+        s.origin = to_eigen(F.p) + R * in[i].origin;
         s.tip_rot = R * in[i].tip_rot;
         s.tip_pos = R * in[i].tip_pos;
       }
@@ -130,7 +122,7 @@ Status ChainRne::configure(const KDL::Chain& chain, ChainRne* out, std::string* 
     for (size_t k = 0; k < kept.size(); ++k) {
       Segment& s = kept[k];
       s.mass = inertia[k].getMass();
-      s.h = s.mass * vec(inertia[k].getCOG());
+      s.h = s.mass * to_eigen(inertia[k].getCOG());
       const KDL::RotationalInertia Io = inertia[k].getRotationalInertia();
       for (int a = 0; a < 3; ++a)
         for (int b = 0; b < 3; ++b) s.inertia(a, b) = Io.data[3 * a + b];

@@ -9,12 +9,17 @@ namespace kiloloop {
 
 inline Eigen::Vector3d to_eigen(const KDL::Vector& v) { return Eigen::Vector3d(v.x(), v.y(), v.z()); }
 
+inline Eigen::Matrix3d to_eigen(const KDL::Rotation& R) {
+  Eigen::Matrix3d m;
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c) m(r, c) = R(r, c);
+  return m;
+}
+
 inline Eigen::Isometry3d to_eigen(const KDL::Frame& f) {
   Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-  for (int r = 0; r < 3; ++r) {
-    for (int c = 0; c < 3; ++c) T.linear()(r, c) = f.M(r, c);
-    T.translation()[r] = f.p[r];
-  }
+  T.linear() = to_eigen(f.M);
+  T.translation() = to_eigen(f.p);
   return T;
 }
 
