@@ -43,6 +43,19 @@ class Rng {
     }
   }
 
+  // Consumes exactly the draws normal() would and returns +1 or -1, the sign of the sample it
+  // skips (that of u: the factor sqrt(..) is > 0), without its log and sqrt. For an element
+  // whose sigma is 0: sigma * normal() is then the same signed zero as sigma * normal_sign(),
+  // and the stream stays that of normal() for the elements after it.
+  double normal_sign() noexcept {
+    for (;;) {
+      const double u = 2.0 * uniform() - 1.0;
+      const double v = 2.0 * uniform() - 1.0;
+      const double s = u * u + v * v;
+      if (s > 0.0 && s < 1.0) return std::copysign(1.0, u);
+    }
+  }
+
  private:
   static std::uint64_t rotl(std::uint64_t x, int k) noexcept { return (x << k) | (x >> (64 - k)); }
   static std::uint64_t splitmix64(std::uint64_t& x) noexcept {

@@ -28,6 +28,42 @@ TEST(NativeRng, SameSeedSameStreamOtherSeedOther) {
   EXPECT_NEAR(sq / n, 1.0, 0.05);
 }
 
+TEST(NativeRng, NormalSignConsumesTheDrawsOfNormal) {
+  // Interleaved: a skips every third sample with normal_sign, b draws them all; the other
+  // samples stay equal, and each skipped sign is that of the sample it stands for.
+  Rng a(7), b(7);
+  for (int i = 0; i < 3000; ++i) {
+    const double x = b.normal();
+    if (i % 3 == 0)
+      EXPECT_EQ(a.normal_sign(), std::signbit(x) ? -1.0 : 1.0);
+    else
+      EXPECT_EQ(a.normal(), x);
+  }
+}
+
+TEST(NativeSensorModel, ZeroSigmaElementsKeepTheStreamAndSignedZeros) {
+  // sigma = 0 skips the log and sqrt, not the draws: bit for bit x + sigma * N per element,
+  // a signed zero included (-0.0 + 0.0 * N is -0.0 for N < 0 and +0.0 for N > 0).
+  SensorModel s;
+  std::string why;
+  const std::vector<double> sigma = {0.0, 0.3, 0.0, 0.05};
+  ASSERT_TRUE(s.configure(SensorModelConfig{sigma, {}, 11}, 4, &why)) << why;
+  Rng ref(11);
+  const double x[4] = {-0.0, 1.5, -0.0, -2.0};
+  double y[4];
+  int negative_zeros = 0;
+  for (int k = 0; k < 200; ++k) {
+    s.apply(x, y);
+    for (int i = 0; i < 4; ++i) {
+      const double expected = x[i] + sigma[i] * ref.normal();
+      EXPECT_EQ(y[i], expected);
+      EXPECT_EQ(std::signbit(y[i]), std::signbit(expected));
+      negative_zeros += y[i] == 0.0 && std::signbit(y[i]);
+    }
+  }
+  EXPECT_GT(negative_zeros, 0);  // both signs of zero occurred: the sign rule was exercised
+}
+
 TEST(NativeSensorModel, QuantizesHalfToEvenLikeNumpy) {
   SensorModel s;
   std::string why;
