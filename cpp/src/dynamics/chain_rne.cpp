@@ -10,19 +10,20 @@
 
 namespace kiloloop {
 
-namespace {
-// Rotation by angle about the unit axis a (Rodrigues, as KDL::Rotation::Rot2).
-Eigen::Matrix3d axis_rotation(const Eigen::Vector3d& a, double c, double s) noexcept {
-  const double t = 1.0 - c;
-  Eigen::Matrix3d r;
-  r << c + t * a.x() * a.x(), t * a.x() * a.y() - s * a.z(), t * a.x() * a.z() + s * a.y(),
-      t * a.x() * a.y() + s * a.z(), c + t * a.y() * a.y(), t * a.y() * a.z() - s * a.x(),
-      t * a.x() * a.z() - s * a.y(), t * a.y() * a.z() + s * a.x(), c + t * a.z() * a.z();
-  return r;
-}
-}  // namespace
-
 Status ChainRne::configure(const KDL::Chain& chain, ChainRne* out, std::string* why) {
+  // The Rodrigues split of a revolute pose (Segment::rot_0 ..), from its axis, origin and tip.
+  auto split = [](Segment& s) {
+    if (s.kind != Kind::kRevolute) return;
+    const Eigen::Matrix3d aat = s.axis * s.axis.transpose();
+    Eigen::Matrix3d cross;  // [a]x
+    cross << 0.0, -s.axis.z(), s.axis.y(), s.axis.z(), 0.0, -s.axis.x(), -s.axis.y(), s.axis.x(), 0.0;
+    s.rot_0 = aat * s.tip_rot;
+    s.rot_c = s.tip_rot - s.rot_0;
+    s.rot_s = cross * s.tip_rot;
+    s.pos_0 = s.origin + aat * s.tip_pos;
+    s.pos_c = s.tip_pos - aat * s.tip_pos;
+    s.pos_s = s.axis.cross(s.tip_pos);
+  };
   ChainRne r;
   for (unsigned i = 0; i < chain.getNrOfSegments(); ++i) {
     const KDL::Segment& seg = chain.getSegment(i);
@@ -64,6 +65,7 @@ Status ChainRne::configure(const KDL::Chain& chain, ChainRne* out, std::string* 
     for (int a = 0; a < 3; ++a)
       for (int b = 0; b < 3; ++b) s.inertia(a, b) = Io.data[3 * a + b];
     s.has_inertia = s.mass != 0.0 || !s.inertia.isZero(0.0);
+    split(s);
     r.segments_.push_back(s);
   }
   // The joint pose and unit twist this pass assumes must be KDL's (scale 1, offset 0).
@@ -130,13 +132,15 @@ Status ChainRne::configure(const KDL::Chain& chain, ChainRne* out, std::string* 
     }
     r.segments_ = std::move(kept);
   }
+  for (Segment& s : r.segments_) split(s);  // the folded joints' own
   r.state_.resize(r.segments_.size());
   *out = std::move(r);
   return Status::kOk;
 }
 
 // The segment's tip frame in its parent frame at joint position q: rot = R_joint tip_rot,
-// pos = origin + R_joint tip_pos (revolute), or a translation along the axis (prismatic).
+// pos = origin + R_joint tip_pos (revolute, through the Rodrigues split), or a translation along
+// the axis (prismatic).
 void ChainRne::pose(const Segment& s, double q, State& x) const noexcept {
   switch (s.kind) {
     case Kind::kFixed:
@@ -144,10 +148,9 @@ void ChainRne::pose(const Segment& s, double q, State& x) const noexcept {
       x.pos = s.tip_pos;
       break;
     case Kind::kRevolute: {
-      const Eigen::Matrix3d R = axis_rotation(s.axis, std::cos(q), std::sin(q));
-      x.rot.noalias() = R * s.tip_rot;
-      x.pos.noalias() = R * s.tip_pos;
-      x.pos += s.origin;
+      const double c = std::cos(q), sn = std::sin(q);
+      x.rot = s.rot_0 + c * s.rot_c + sn * s.rot_s;
+      x.pos = s.pos_0 + c * s.pos_c + sn * s.pos_s;
       break;
     }
     case Kind::kPrismatic:

@@ -55,6 +55,11 @@ class ChainRne {
     Eigen::Matrix3d tip_rot;     // frame to tip: rotation and translation [m]
     Eigen::Vector3d tip_pos;
     Eigen::Vector3d s_lin, s_ang;  // motion subspace S in the segment frame (per unit qd)
+    // Revolute: the pose at q split by Rodrigues, R(a, q) = cos q I + sin q [a]x + (1 - cos q) a a^T,
+    // into constants (configure): rot = rot_0 + cos q rot_c + sin q rot_s, pos likewise [m].
+    // Per tick 9 + 3 entries of two products each, instead of building R(a, q) and multiplying.
+    Eigen::Matrix3d rot_0, rot_c, rot_s;
+    Eigen::Vector3d pos_0, pos_c, pos_s;
     double mass = 0.0;             // [kg]
     Eigen::Vector3d h;             // first moment m c about the segment origin [kg m]
     Eigen::Matrix3d inertia;       // rotational inertia about the segment origin [kg m^2]
