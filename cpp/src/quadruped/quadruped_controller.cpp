@@ -220,6 +220,16 @@ Status QuadrupedController::configure(const QuadrupedConfig& config, RobotModelP
     }
     cfg.inertia_diag = c.inertia_.diagonal();
   }
+  // Stance-force QP: a moment error weighs as the trunk acceleration it causes at the feet
+  // against the CoM acceleration of a force error (QuadrupedConfig::force), unless given.
+  {
+    const double lever = cfg.body_height + c.com_.z();  // [m] CoM above the ground, standing
+    for (int j = 0; j < 3; ++j)
+      if (cfg.force.wrench_weight[3 + j] == 0) {
+        const double a = c.mass_ * lever / c.inertia_(j, j);  // [1/m]
+        cfg.force.wrench_weight[3 + j] = a * a;
+      }
+  }
   // Sizes that scale with the leg.
   double leg_length = 0;
   for (const auto& leg : c.legs_) leg_length += 0.25 * leg.geometry().length();
