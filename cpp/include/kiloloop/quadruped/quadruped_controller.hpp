@@ -27,6 +27,14 @@ namespace kiloloop {
 using Vector12d = Eigen::Matrix<double, 12, 1>;
 using Vector6d = Eigen::Matrix<double, 6, 1>;
 
+// The stance-force QP's settings as the controller starts from them: the moment entries of
+// wrench_weight 0, i.e. derived at configure (QuadrupedConfig::force).
+inline StanceForceConfig derived_stance_force() {
+  StanceForceConfig f;
+  f.wrench_weight.tail<3>().setZero();
+  return f;
+}
+
 // Every default is generic or derived at configure from the model (masses, inertias, leg
 // geometry, effort limits) and the declared actuation delay; a field documented "0: derived" is
 // an override. QuadrupedController::config() returns the configuration with all of it resolved.
@@ -49,7 +57,15 @@ struct QuadrupedConfig {
   GaitConfig gait{0.0, 0.6};
   ContactConfig contact;              // force_on / force_off: set from contact_force_on/off
   EstimatorConfig estimator;
-  StanceForceConfig force;            // fz_min / fz_max: set from the weight fractions below
+  // fz_min / fz_max: set from the weight fractions below. wrench_weight: the forces weigh 1 per
+  // N^2; a moment entry 0 is derived as (m h / I_axis)^2 per (N m)^2, h the CoM's height above
+  // the ground standing, I the composite inertia: a force error dF and a moment error dM then
+  // weigh as the accelerations they cause, dF / m of the CoM against h dM / I of the trunk's
+  // rotation at the feet (a lateral ground force is also a moment h F about the CoM: this is
+  // the trade the QP makes on two diagonal feet). Roll: our model ~250, Go1 ~710. Measured
+  // with the earlier fixed 100 on every axis: Go1's 0.4 N s/kg push at 10 ms swayed the
+  // trunk 86 mm sideways in one diagonal stance and rolled it 5.10 deg (limit 5).
+  StanceForceConfig force = derived_stance_force();
   // Forces as fractions of the robot's weight m g (newtons at configure).
   double contact_force_on = 0.145;    // [-] estimated normal force that confirms a touch-down
   double contact_force_off = 0.058;   // [-] ... below which an unloading foot lifts off
