@@ -20,7 +20,9 @@ void bind_quadruped(py::module_& m) {
       .def_readwrite("accel_noise_density", &AttitudeFilterConfig::accel_noise_density)
       .def_readwrite("crossover", &AttitudeFilterConfig::crossover)
       .def_readwrite("accel_tolerance", &AttitudeFilterConfig::accel_tolerance)
-      .def_readwrite("max_gyro_bias", &AttitudeFilterConfig::max_gyro_bias);
+      .def_readwrite("max_gyro_bias", &AttitudeFilterConfig::max_gyro_bias)
+      .def_readwrite("gyro_bias_random_walk", &AttitudeFilterConfig::gyro_bias_random_walk)
+      .def_readwrite("gyro_turn_on_bias", &AttitudeFilterConfig::gyro_turn_on_bias);
   py::class_<EstimatorConfig>(m, "EstimatorConfig")
       .def(py::init<>())
       .def_readwrite("external_attitude", &EstimatorConfig::external_attitude)
@@ -172,6 +174,9 @@ void bind_quadruped(py::module_& m) {
       .def("reset", &QuadrupedController::reset,
            "leave a latched safe stop and forget the measurement order")
       .def_property_readonly("counters", &QuadrupedController::counters)
+      .def_property_readonly("estimated_gyro_bias",
+                             [](const QuadrupedController& c) { return Eigen::Vector3d(c.estimator().gyro_bias()); },
+                             "(3) [rad/s] the estimator's gyro-bias estimate, trunk frame (diagnostics)")
       .def("foot_position",
            [](const QuadrupedController& c, int leg, const Eigen::Vector3d& q) {
              if (leg < 0 || leg >= QuadrupedController::kLegs) throw py::index_error("leg: 0..3");

@@ -188,6 +188,8 @@ TEST(QuadrupedController, EstimatorConfigIsValidatedWithAClearReason) {
       {[](EstimatorConfig& e) { e.ground_filter = -0.1; }, "ground_filter"},
       {[](EstimatorConfig& e) { e.attitude.gyro_noise_density = 0.0; }, "gyro_noise_density"},
       {[](EstimatorConfig& e) { e.attitude.max_gyro_bias = -1.0; }, "max_gyro_bias"},
+      {[](EstimatorConfig& e) { e.attitude.gyro_bias_random_walk = -1.0; }, "gyro_bias_random_walk"},
+      {[](EstimatorConfig& e) { e.attitude.gyro_turn_on_bias = std::numeric_limits<double>::quiet_NaN(); }, "gyro_turn_on_bias"},
   };
   for (const Case& k : cases) {
     EstimatorConfig e;

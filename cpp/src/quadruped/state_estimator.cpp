@@ -34,9 +34,12 @@ Status validate(const EstimatorConfig& c, std::string* why) {
       !(std::isfinite(a.accel_noise_density) && a.accel_noise_density > 0) ||
       !(std::isfinite(a.accel_tolerance) && a.accel_tolerance > 0) ||
       !(std::isfinite(a.crossover) && a.crossover >= 0) ||
-      !(std::isfinite(a.max_gyro_bias) && a.max_gyro_bias >= 0))
+      !(std::isfinite(a.max_gyro_bias) && a.max_gyro_bias >= 0) ||
+      !(std::isfinite(a.gyro_bias_random_walk) && a.gyro_bias_random_walk >= 0) ||
+      !(std::isfinite(a.gyro_turn_on_bias) && a.gyro_turn_on_bias >= 0))
     return fail("attitude: gyro_noise_density, accel_noise_density, accel_tolerance must be finite "
-                "and > 0; crossover (0: derived), max_gyro_bias finite and >= 0");
+                "and > 0; crossover (0: derived), max_gyro_bias, gyro_bias_random_walk [rad/s^2/sqrt(Hz)], "
+                "gyro_turn_on_bias [rad/s] finite and >= 0");
   return Status::kOk;
 }
 

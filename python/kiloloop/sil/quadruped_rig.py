@@ -345,9 +345,9 @@ _SENSORS = LeggedSensorSettings()
 # Settings every quadruped scenario accepts (`kiloloop run quadruped-... --set key=value`).
 COMMON_DEFAULTS = {
     "nonideal": True,          # master switch: sensor models, motor delay, saturation on
-    # Sensors (sil/legged_sensors.py): realistic = MEMS IMU (Allan parameters below), no
-    # orientation handed over, encoder-difference joint velocity; ideal_sensors=true: the
-    # simulator's IMU, orientation and joint state with white noise (gyro_sigma, accel_sigma).
+    # Sensors (sil/legged_sensors.py), realistic by default: MEMS IMU (Allan parameters below), no
+    # orientation handed over, encoder-difference joint velocity; ideal_sensors=true (debugging):
+    # the simulator's IMU, orientation and joint state with white noise (gyro_sigma, accel_sigma).
     "ideal_sensors": _SENSORS.ideal,
     "gyro_noise_density": _SENSORS.gyro_noise_density,          # [rad/s/sqrt(Hz)] BMI088
     "gyro_bias_random_walk": _SENSORS.gyro_bias_random_walk,    # [rad/s^2/sqrt(Hz)]

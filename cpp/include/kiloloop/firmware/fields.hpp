@@ -78,6 +78,8 @@ void visit_fields(QuadrupedConfig& c, V&& v) {
   v("estimator.attitude.crossover", c.estimator.attitude.crossover);
   v("estimator.attitude.accel_tolerance", c.estimator.attitude.accel_tolerance);
   v("estimator.attitude.max_gyro_bias", c.estimator.attitude.max_gyro_bias);
+  v("estimator.attitude.gyro_bias_random_walk", c.estimator.attitude.gyro_bias_random_walk);
+  v("estimator.attitude.gyro_turn_on_bias", c.estimator.attitude.gyro_turn_on_bias);
   v("estimator.velocity_aiding", c.estimator.velocity_aiding);
   v("estimator.accel_noise", c.estimator.accel_noise);
   v("estimator.leg_velocity_noise", c.estimator.leg_velocity_noise);

@@ -230,6 +230,8 @@ class QuadrupedController {
   Eigen::Matrix3d inertia_free() const { return inertia_free_.rotational({true, true, true, true}); }
   // The statuses step returned since configure (one StatusCounters for every controller).
   const StatusCounters& counters() const { return counters_; }
+  // The state estimator (diagnostics: its gyro bias, ground plane...).
+  const StateEstimator& estimator() const { return estimator_; }
   // Leaves a latched safe stop and forgets the measurement order (a new run, a new clock); the
   // estimate, the gait and the counters are kept.
   void reset() noexcept {

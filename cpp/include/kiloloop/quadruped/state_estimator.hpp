@@ -60,7 +60,8 @@ struct EstimatorConfig {
 
 // Finite; dt > 0; 0 <= attitude_gain <= 1 and 0 <= ground_filter <= 1 (per-tick blend weights);
 // accel_noise, leg_velocity_noise, foothold_noise > 0 (the Kalman filter divides by them);
-// attitude: noise densities and accel_tolerance > 0, crossover and max_gyro_bias >= 0. The
+// attitude: noise densities and accel_tolerance > 0, crossover, max_gyro_bias, gyro_bias_random_walk
+// and gyro_turn_on_bias >= 0. The
 // reason in *why.
 Status validate(const EstimatorConfig& config, std::string* why);
 
