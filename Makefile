@@ -45,9 +45,9 @@ demo: build
 	@mkdir -p $(OUT)
 	$(BIN)/kiloloop run arm-track --plot $(OUT)/arm-track.png --log $(OUT)/arm-track.npz
 
-# pytest, and at the same time the sanitizer stage (`make sanitize SAN_RT=OFF`, log in
-# build/asan-stage.log); fails if either fails.
-test: build $(BIN)/cmake
+# The sanitizer stage (`make sanitize SAN_RT=OFF`, log in build/asan-stage.log) in the background
+# while `make build` and pytest run (scripts/run_tests.sh); fails if either fails.
+test: system-deps $(BIN)/cmake
 	scripts/run_tests.sh SAN_RT=OFF
 
 # The C++ tests and the fuzz harness at -O2 without sanitizers (plain CMake, build/cpp): the

@@ -1,12 +1,14 @@
 #!/usr/bin/env bash
-# `make test` after `make build`: two stages at once on the machine's cores, both must pass.
-#   1. the sanitizer stage (`make sanitize`): the C++ tests and every fuzz target built with
-#      AddressSanitizer + UndefinedBehaviorSanitizer in build/asan, then ctest there. Its output
+# `make test`: two stages at once on the machine's cores, both must pass.
+#   1. the sanitizer stage (`make sanitize`), in the background from the start: the C++ tests and
+#      every fuzz target built with AddressSanitizer + UndefinedBehaviorSanitizer in build/asan,
+#      then ctest there. It needs no Python package, only cmake and ninja from .venv. Its output
 #      goes to build/asan-stage.log (the tail is printed at the end, the whole log on failure).
-#   2. pytest, in the foreground (it also builds the firmware core with -fno-exceptions -fno-rtti
-#      once and replays every robot's log through it, bit for bit).
-# Why at once: pytest is mostly one Python process on one core; the sanitizer build takes the
-# other (docs/hardening.md has the measured stage times on 2 cores).
+#   2. in the foreground: `make build` (the Python dependencies, the wheel in build/py), then
+#      pytest (it also builds the firmware core with -fno-exceptions -fno-rtti once and replays
+#      every robot's log through it, bit for bit).
+# Why at once: the dependency downloads and pytest (mostly one Python process) leave a core idle
+# that the sanitizer build takes (docs/hardening.md has the measured stage times on 2 cores).
 set -uo pipefail
 cd "$(dirname "$0")/.."
 MAKE_ARGS=("$@")
@@ -22,6 +24,7 @@ san_pid=$!
 # A stopped make test (Ctrl-C) stops the background stage too.
 trap 'kill "$san_pid" 2>/dev/null' INT TERM
 
+make --no-print-directory build || { kill "$san_pid" 2>/dev/null; wait; exit 1; }
 echo "==> Python tests (pytest)"
 { time .venv/bin/python -m pytest -q 2>&3 ; } 3>&2 2>build/pytest-stage.time
 py_rc=$?
