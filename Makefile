@@ -1,10 +1,10 @@
 # The README's two commands: `make demo` and `make test`. Both set up everything they need:
 # Debian packages (scripts/setup_system.sh), a virtual environment in .venv, and the package
-# built by scikit-build-core into build/py (incremental).
-# `make test` (CI's command, .ci/run): pytest, and beside it the sanitizer stage: the C++ tests and
-# short runs of every fuzz target built with ASan + UBSan in build/asan (scripts/run_tests.sh).
-# `make cpp-test`: the same C++ tests at -O2 without sanitizers in build/cpp (the malloc
-# interposer's allocation proof); `make fuzz`: 1,000,000 inputs per fuzz target from that build.
+# built by scikit-build-core into build/py (incremental; the C++ tests are built there too).
+# Hardening: `make fuzz` (1,000,000 inputs per fuzz target, from the build/py build) and
+# `make sanitize` (a separate plain-CMake build in build/asan with ASan + UBSan: the C++ tests,
+# short fuzz runs, and the core built with -fno-exceptions -fno-rtti). CI (.ci/run) runs
+# `make test` only: `make sanitize` does not fit its 20-minute budget yet (docs/hardening.md).
 # mujoco is installed before the build: the native SIL loop compiles against its wheel's headers.
 SHELL := /bin/bash
 PYTHON ?= python3
@@ -12,10 +12,7 @@ VENV := .venv
 BIN := $(VENV)/bin
 OUT := out
 BUILD_DIR := build/py
-# The wheel build carries no C++ tests: `make test` builds them under the sanitizers (build/asan),
-# `make cpp-test` at -O2 (build/cpp). OFF explicitly: an older build/py's cache may say ON.
-PIP_BUILD_FLAGS := --no-build-isolation --config-settings=cmake.define.KILOLOOP_BUILD_TESTS=OFF
-CPP_DIR := build/cpp
+PIP_BUILD_FLAGS := --no-build-isolation --config-settings=cmake.define.KILOLOOP_BUILD_TESTS=ON
 SAN_DIR := build/asan
 FUZZ_INPUTS ?= 1000000
 FUZZ_SEED ?= 1
@@ -25,39 +22,27 @@ SAN_FUZZ_INPUTS ?= 20000
 SAN_UNITY ?= ON
 SAN_UNITY_BATCH ?= 8
 # kiloloop_core_rt (every core source with -fno-exceptions -fno-rtti, -O0) and its smoke program in
-# the sanitizer build. OFF in `make test`: pytest's firmware tests already compile the installed
+# the sanitizer build. OFF after `make test`: pytest's firmware tests already compile the installed
 # core that way (-O2) and replay through it bit for bit (tests/test_firmware_b2b.py).
 SAN_RT ?= ON
-# Optimization and debug info of the sanitizer build. -O1: the sanitizers' usual level. -g0: no
-# line numbers in reports (function names remain), measured cheaper to build (docs/hardening.md);
-# `make sanitize SAN_OPT="-O1 -g1"` when a report needs its lines.
-SAN_OPT ?= -O1 -g0
 JOBS ?= 2
 # LeakSanitizer on; any UB report is fatal (also compiled in: -fno-sanitize-recover=undefined).
 SAN_ENV := ASAN_OPTIONS=detect_leaks=1:abort_on_error=1:strict_string_checks=1 \
            UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
            LSAN_OPTIONS=suppressions=$(abspath tests/lsan.supp)
 
-.PHONY: demo test cpp-test bench build system-deps clean robot-matrix matrix fuzz sanitize b2b firmware-loop
+.PHONY: demo test bench build system-deps clean robot-matrix matrix fuzz sanitize b2b firmware-loop
 
 demo: build
 	@echo "==> demo: the UR5 follows a quintic in MuJoCo (arm-track); plot and log into $(OUT)/"
 	@mkdir -p $(OUT)
 	$(BIN)/kiloloop run arm-track --plot $(OUT)/arm-track.png --log $(OUT)/arm-track.npz
 
-# The sanitizer stage (`make sanitize SAN_RT=OFF`, log in build/asan-stage.log) in the background
-# while `make build` and pytest run (scripts/run_tests.sh); fails if either fails.
-test: system-deps $(BIN)/cmake
-	scripts/run_tests.sh SAN_RT=OFF
-
-# The C++ tests and the fuzz harness at -O2 without sanitizers (plain CMake, build/cpp): the
-# allocation proof with the malloc interposer (under ASan, `make test` counts with ASan's hook).
-cpp-test: system-deps $(BIN)/cmake
-	$(BIN)/cmake -S . -B $(CPP_DIR) -G Ninja -DCMAKE_MAKE_PROGRAM=$(abspath $(BIN)/ninja) \
-	  -DCMAKE_BUILD_TYPE=Release -DKILOLOOP_BUILD_TESTS=ON -DKILOLOOP_BUILD_PYTHON=OFF \
-	  -DKILOLOOP_BUILD_BENCH=OFF
-	$(BIN)/cmake --build $(CPP_DIR) -j $(JOBS)
-	ctest --test-dir $(CPP_DIR) --output-on-failure -j $(JOBS)
+test: build
+	@echo "==> C++ tests (ctest)"
+	ctest --test-dir $(BUILD_DIR) --output-on-failure -j2
+	@echo "==> Python tests (pytest)"
+	$(BIN)/python -m pytest -q
 
 bench: build
 	$(BIN)/kiloloop bench
@@ -86,19 +71,20 @@ firmware-loop: build
 
 # Every fuzz target, FUZZ_INPUTS inputs each; prints inputs, bad outputs, missed statuses and
 # crashes per target and fails on any of them.
-fuzz: cpp-test
-	$(CPP_DIR)/kiloloop_fuzz --inputs $(FUZZ_INPUTS) --seed $(FUZZ_SEED)
+fuzz: build
+	$(BUILD_DIR)/kiloloop_fuzz --inputs $(FUZZ_INPUTS) --seed $(FUZZ_SEED)
 
 # ASan + UBSan build of the core, the URDF loader, the C++ tests and the fuzz harness (plain
-# CMake, SAN_OPT; a unity build: SAN_UNITY), plus kiloloop_core_rt
+# CMake, -O1: the sanitizers' usual level; -g1: line numbers in reports; a unity build:
+# SAN_UNITY), plus kiloloop_core_rt
 # (-fno-exceptions -fno-rtti; SAN_RT); runs ctest there (the tests, SAN_FUZZ_INPUTS inputs per
 # fuzz target, the no-exceptions smoke program). Incremental. Any report fails the run: UBSan
 # halts (-fno-sanitize-recover=undefined), ASan aborts, LeakSanitizer is on (tests/lsan.supp:
 # third-party leaks only). The allocation tests count with ASan's malloc hook here
-# (cpp/testing/alloc_counter.cpp); the malloc interposer's proof is build/cpp's (`make cpp-test`).
+# (cpp/testing/alloc_counter.cpp); the malloc interposer's proof is build/py's (`make test`).
 sanitize: system-deps $(BIN)/cmake
 	$(BIN)/cmake -S . -B $(SAN_DIR) -G Ninja -DCMAKE_MAKE_PROGRAM=$(abspath $(BIN)/ninja) \
-	  -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="$(SAN_OPT) -DNDEBUG" \
+	  -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g1 -DNDEBUG" \
 	  -DKILOLOOP_SANITIZE=ON -DKILOLOOP_RT_NO_EXCEPTIONS=$(SAN_RT) -DKILOLOOP_BUILD_TESTS=ON \
 	  -DKILOLOOP_BUILD_PYTHON=OFF -DKILOLOOP_BUILD_BENCH=OFF \
 	  -DKILOLOOP_FUZZ_SHORT_INPUTS=$(SAN_FUZZ_INPUTS) \
@@ -115,13 +101,13 @@ system-deps:
 $(BIN)/python:
 	$(PYTHON) -m venv $(VENV)
 
-# The first build compiles about 90 C++ files (about 5 minutes on 2 cores): its progress lines
+# The first build compiles ~100 C++ files (about 5 minutes on 2 cores): its progress lines
 # ([n/N] Building ...) are shown, the rest of pip's output is not.
 build: system-deps $(BIN)/python
 	@echo "==> kiloloop: Python build tools into $(VENV)"
 	@$(BIN)/python -m pip install -q --upgrade pip
 	@$(BIN)/python -m pip install -q "scikit-build-core>=0.10" "pybind11>=2.12" cmake ninja "mujoco>=3.2"
-	@echo "==> kiloloop: building the C++ core, the Python module and the benchmarks into $(BUILD_DIR)"
+	@echo "==> kiloloop: building the C++ core, the Python module and the C++ tests into $(BUILD_DIR)"
 	@echo "    (incremental; the first build takes about 5 minutes on 2 cores), then installing"
 	@echo "    the Python dependencies (mujoco, numpy, pinocchio and example-robot-data for tests...)"
 	@set -o pipefail; $(BIN)/python -m pip install -v $(PIP_BUILD_FLAGS) ".[test]" 2>&1 \
