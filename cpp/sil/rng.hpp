@@ -35,12 +35,9 @@ class Rng {
   // One standard normal sample. The polar method makes a pair; the second is dropped so that
   // each call consumes whole draws only (simpler to mirror in a reference implementation).
   double normal() noexcept {
-    for (;;) {
-      const double u = 2.0 * uniform() - 1.0;
-      const double v = 2.0 * uniform() - 1.0;
-      const double s = u * u + v * v;
-      if (s > 0.0 && s < 1.0) return u * std::sqrt(-2.0 * std::log(s) / s);
-    }
+    double u, s;
+    polar_point(u, s);
+    return u * std::sqrt(-2.0 * std::log(s) / s);
   }
 
   // Consumes exactly the draws normal() would and returns +1 or -1, the sign of the sample it
@@ -48,15 +45,22 @@ class Rng {
   // whose sigma is 0: sigma * normal() is then the same signed zero as sigma * normal_sign(),
   // and the stream stays that of normal() for the elements after it.
   double normal_sign() noexcept {
-    for (;;) {
-      const double u = 2.0 * uniform() - 1.0;
-      const double v = 2.0 * uniform() - 1.0;
-      const double s = u * u + v * v;
-      if (s > 0.0 && s < 1.0) return std::copysign(1.0, u);
-    }
+    double u, s;
+    polar_point(u, s);
+    return std::copysign(1.0, u);
   }
 
  private:
+  // The polar method's rejection loop, shared by normal() and normal_sign(): a point (u, v) drawn
+  // uniformly in the square until it lies inside the unit disc (not at its centre); s = u^2 + v^2.
+  void polar_point(double& u, double& s) noexcept {
+    for (;;) {
+      u = 2.0 * uniform() - 1.0;
+      const double v = 2.0 * uniform() - 1.0;
+      s = u * u + v * v;
+      if (s > 0.0 && s < 1.0) return;
+    }
+  }
   static std::uint64_t rotl(std::uint64_t x, int k) noexcept { return (x << k) | (x >> (64 - k)); }
   static std::uint64_t splitmix64(std::uint64_t& x) noexcept {
     std::uint64_t z = (x += 0x9e3779b97f4a7c15ULL);

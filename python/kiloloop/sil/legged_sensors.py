@@ -12,8 +12,9 @@ Python loop through stage.apply(t, y)), so there is one implementation and the l
           rad at the joint; 1e-4 (the coarse end) gives qd in steps of 0.1 rad/s at 1 kHz.
 
 These are the default. `ideal=True` (the debug switch, `--set ideal_sensors=true`): the
-simulator's IMU readings, its orientation as an exact external AHRS (estimator.external_attitude) and the joint state, with only
-the white noise and quantization of the sensor model (gyro_sigma, accel_sigma, encoder_resolution).
+simulator's IMU readings, its orientation as an exact external AHRS (estimator.external_attitude)
+and the joint state, with only the white noise and quantization of the sensor model (gyro_sigma,
+accel_sigma, encoder_resolution).
 """
 from __future__ import annotations
 
