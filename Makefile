@@ -1,10 +1,12 @@
 # The README's two commands: `make demo` and `make test`. Both set up everything they need:
 # Debian packages (scripts/setup_system.sh), a virtual environment in .venv, and the package
-# built by scikit-build-core into build/py (incremental; the C++ tests are built there too).
-# Hardening: `make fuzz` (1,000,000 inputs per fuzz target, from the build/py build) and
-# `make sanitize` (a separate plain-CMake build in build/asan with ASan + UBSan: the C++ tests,
-# short fuzz runs, and the core built with -fno-exceptions -fno-rtti). CI (.ci/run) runs
-# `make test` only: `make sanitize` does not fit its 20-minute budget yet (docs/hardening.md).
+# built by scikit-build-core into build/py (incremental; a unity build: pyproject.toml).
+# `make test` (CI's command, .ci/run; scripts/run_tests.sh) runs two stages at once: the
+# sanitizer stage (the C++ tests and short runs of every fuzz target built with ASan + UBSan in
+# build/asan, then ctest there) in the background, and `make build` then pytest in the foreground.
+# `make cpp-test`: the same C++ tests at -O2 without sanitizers (build/cpp; the allocation proof
+# with the malloc interposer); `make fuzz`: 1,000,000 inputs per fuzz target from that build;
+# `make sanitize`: the sanitizer stage alone, with the test code instrumented too (docs/hardening.md).
 # mujoco is installed before the build: the native SIL loop compiles against its wheel's headers.
 SHELL := /bin/bash
 PYTHON ?= python3
@@ -12,8 +14,12 @@ VENV := .venv
 BIN := $(VENV)/bin
 OUT := out
 BUILD_DIR := build/py
-PIP_BUILD_FLAGS := --no-build-isolation --config-settings=cmake.define.KILOLOOP_BUILD_TESTS=ON
+# The wheel carries no C++ tests (`make test` builds them under the sanitizers, `make cpp-test`
+# at -O2). OFF explicitly: an older build/py's CMake cache may say ON.
+PIP_BUILD_FLAGS := --no-build-isolation --config-settings=cmake.define.KILOLOOP_BUILD_TESTS=OFF \
+                   --config-settings=cmake.define.KILOLOOP_BUILD_FUZZ=OFF
 SAN_DIR := build/asan
+CPP_DIR := build/cpp
 FUZZ_INPUTS ?= 1000000
 FUZZ_SEED ?= 1
 SAN_FUZZ_INPUTS ?= 20000
@@ -25,24 +31,44 @@ SAN_UNITY_BATCH ?= 8
 # the sanitizer build. OFF after `make test`: pytest's firmware tests already compile the installed
 # core that way (-O2) and replay through it bit for bit (tests/test_firmware_b2b.py).
 SAN_RT ?= ON
+# Optimization and debug info of the sanitizer build. -O1: the sanitizers' usual level; -g1: line
+# numbers in reports. `make test` passes -g0 (a quarter less compile CPU, measured; reports keep
+# function names: rerun `make sanitize` for lines).
+SAN_OPT ?= -O1 -g1
+# Instrument the test programs' own sources too (ON), or only the code under test (OFF: what
+# `make test` runs; KILOLOOP_SANITIZE_TEST_CODE in CMakeLists.txt says what is left out).
+SAN_TEST_CODE ?= ON
 JOBS ?= 2
 # LeakSanitizer on; any UB report is fatal (also compiled in: -fno-sanitize-recover=undefined).
 SAN_ENV := ASAN_OPTIONS=detect_leaks=1:abort_on_error=1:strict_string_checks=1 \
            UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
            LSAN_OPTIONS=suppressions=$(abspath tests/lsan.supp)
 
-.PHONY: demo test bench build system-deps clean robot-matrix matrix fuzz sanitize b2b firmware-loop
+.PHONY: demo test cpp-build cpp-test bench build system-deps clean robot-matrix matrix fuzz sanitize \
+        b2b firmware-loop
 
 demo: build
 	@echo "==> demo: the UR5 follows a quintic in MuJoCo (arm-track); plot and log into $(OUT)/"
 	@mkdir -p $(OUT)
 	$(BIN)/kiloloop run arm-track --plot $(OUT)/arm-track.png --log $(OUT)/arm-track.npz
 
-test: build
-	@echo "==> C++ tests (ctest)"
-	ctest --test-dir $(BUILD_DIR) --output-on-failure -j2
-	@echo "==> Python tests (pytest)"
-	$(BIN)/python -m pytest -q
+# The sanitizer stage (`make sanitize`, the test code not instrumented, -g0, no SAN_RT; log in
+# build/asan-stage.log) in the background from the start, `make build` and pytest in the
+# foreground (scripts/run_tests.sh); fails if either fails. Measured stage times: docs/hardening.md.
+test: system-deps $(BIN)/cmake
+	scripts/run_tests.sh SAN_RT=OFF SAN_TEST_CODE=OFF SAN_OPT="-O1 -g0"
+
+# The C++ tests and the fuzz harness at -O2 without sanitizers (plain CMake, a unity build, in
+# build/cpp): the allocation proof with the malloc interposer at the shipped optimization level
+# (under ASan, `make test` counts with ASan's hook instead).
+cpp-build: system-deps $(BIN)/cmake
+	$(BIN)/cmake -S . -B $(CPP_DIR) -G Ninja -DCMAKE_MAKE_PROGRAM=$(abspath $(BIN)/ninja) \
+	  -DCMAKE_BUILD_TYPE=Release -DKILOLOOP_BUILD_TESTS=ON -DKILOLOOP_BUILD_PYTHON=OFF \
+	  -DKILOLOOP_BUILD_BENCH=OFF -DCMAKE_UNITY_BUILD=ON -DCMAKE_UNITY_BUILD_BATCH_SIZE=8
+	$(BIN)/cmake --build $(CPP_DIR) -j $(JOBS)
+
+cpp-test: cpp-build
+	ctest --test-dir $(CPP_DIR) --output-on-failure -j $(JOBS)
 
 bench: build
 	$(BIN)/kiloloop bench
@@ -71,21 +97,21 @@ firmware-loop: build
 
 # Every fuzz target, FUZZ_INPUTS inputs each; prints inputs, bad outputs, missed statuses and
 # crashes per target and fails on any of them.
-fuzz: build
-	$(BUILD_DIR)/kiloloop_fuzz --inputs $(FUZZ_INPUTS) --seed $(FUZZ_SEED)
+fuzz: cpp-build
+	$(CPP_DIR)/kiloloop_fuzz --inputs $(FUZZ_INPUTS) --seed $(FUZZ_SEED)
 
 # ASan + UBSan build of the core, the URDF loader, the C++ tests and the fuzz harness (plain
-# CMake, -O1: the sanitizers' usual level; -g1: line numbers in reports; a unity build:
-# SAN_UNITY), plus kiloloop_core_rt
+# CMake, SAN_OPT; a unity build: SAN_UNITY), plus kiloloop_core_rt
 # (-fno-exceptions -fno-rtti; SAN_RT); runs ctest there (the tests, SAN_FUZZ_INPUTS inputs per
 # fuzz target, the no-exceptions smoke program). Incremental. Any report fails the run: UBSan
 # halts (-fno-sanitize-recover=undefined), ASan aborts, LeakSanitizer is on (tests/lsan.supp:
 # third-party leaks only). The allocation tests count with ASan's malloc hook here
-# (cpp/testing/alloc_counter.cpp); the malloc interposer's proof is build/py's (`make test`).
+# (cpp/testing/alloc_counter.cpp); the malloc interposer's proof is build/cpp's (`make cpp-test`).
 sanitize: system-deps $(BIN)/cmake
 	$(BIN)/cmake -S . -B $(SAN_DIR) -G Ninja -DCMAKE_MAKE_PROGRAM=$(abspath $(BIN)/ninja) \
-	  -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g1 -DNDEBUG" \
+	  -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="$(SAN_OPT) -DNDEBUG" \
 	  -DKILOLOOP_SANITIZE=ON -DKILOLOOP_RT_NO_EXCEPTIONS=$(SAN_RT) -DKILOLOOP_BUILD_TESTS=ON \
+	  -DKILOLOOP_SANITIZE_TEST_CODE=$(SAN_TEST_CODE) \
 	  -DKILOLOOP_BUILD_PYTHON=OFF -DKILOLOOP_BUILD_BENCH=OFF \
 	  -DKILOLOOP_FUZZ_SHORT_INPUTS=$(SAN_FUZZ_INPUTS) \
 	  -DCMAKE_UNITY_BUILD=$(SAN_UNITY) -DCMAKE_UNITY_BUILD_BATCH_SIZE=$(SAN_UNITY_BATCH)
@@ -107,7 +133,7 @@ build: system-deps $(BIN)/python
 	@echo "==> kiloloop: Python build tools into $(VENV)"
 	@$(BIN)/python -m pip install -q --upgrade pip
 	@$(BIN)/python -m pip install -q "scikit-build-core>=0.10" "pybind11>=2.12" cmake ninja "mujoco>=3.2"
-	@echo "==> kiloloop: building the C++ core, the Python module and the C++ tests into $(BUILD_DIR)"
+	@echo "==> kiloloop: building the C++ core and the Python module into $(BUILD_DIR)"
 	@echo "    (incremental; the first build takes about 5 minutes on 2 cores), then installing"
 	@echo "    the Python dependencies (mujoco, numpy, pinocchio and example-robot-data for tests...)"
 	@set -o pipefail; $(BIN)/python -m pip install -v $(PIP_BUILD_FLAGS) ".[test]" 2>&1 \

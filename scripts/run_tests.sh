@@ -1,0 +1,43 @@
+#!/usr/bin/env bash
+# `make test`: two stages at once on the machine's cores; both must pass.
+#   1. The sanitizer stage (`make sanitize "$@"`), in the background from the start: the core, the
+#      URDF loader, the C++ tests and every fuzz target built with AddressSanitizer +
+#      UndefinedBehaviorSanitizer in build/asan, then ctest there. It needs no Python package, only
+#      cmake and ninja from .venv. Its output goes to build/asan-stage.log (the end is printed
+#      when it passes, the whole log when it fails).
+#   2. In the foreground: `make build` (the Python dependencies, the wheel in build/py), then
+#      pytest (it also builds the firmware core with -fno-exceptions -fno-rtti once and replays
+#      every robot's log through it, bit for bit).
+# Why at once: the sanitizer stage is the longest and needs no wheel; the dependency downloads and
+# pytest (one Python process) leave a core it takes (docs/hardening.md: measured stage times).
+set -uo pipefail
+cd "$(dirname "$0")/.."
+
+mkdir -p build
+log=build/asan-stage.log
+echo "==> sanitizer stage in the background: make sanitize $* (log: $log)"
+# Each stage's wall and CPU time (bash's `time`: the children's user + sys), printed at the end.
+TIMEFORMAT='%R s wall, %U s user + %S s sys CPU'
+{ time make --no-print-directory sanitize "$@" >"$log" 2>&1 ; } 2>build/asan-stage.time &
+san_pid=$!
+# A stopped make test (Ctrl-C) stops the background stage too.
+trap 'kill "$san_pid" 2>/dev/null' INT TERM
+
+{ time make --no-print-directory build 2>&3 ; } 3>&2 2>build/build-stage.time \
+  || { echo "==> make build FAILED; stopping the sanitizer stage"; kill "$san_pid" 2>/dev/null; wait; exit 1; }
+echo "==> make build: $(cat build/build-stage.time)"
+echo "==> Python tests (pytest)"
+{ time .venv/bin/python -m pytest -q 2>&3 ; } 3>&2 2>build/pytest-stage.time
+py_rc=$?
+echo "==> pytest: $(cat build/pytest-stage.time); waiting for the sanitizer stage"
+
+wait "$san_pid"
+san_rc=$?
+if [ "$san_rc" -ne 0 ]; then
+  echo "==> sanitizer stage FAILED (exit $san_rc); its log, $log:"
+  cat "$log"
+else
+  echo "==> sanitizer stage passed: $(cat build/asan-stage.time); the end of $log:"
+  tail -n 4 "$log"
+fi
+[ "$py_rc" -eq 0 ] && [ "$san_rc" -eq 0 ]
