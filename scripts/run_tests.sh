@@ -17,17 +17,19 @@ mkdir -p build
 log=build/asan-stage.log
 echo "==> sanitizer stage in the background: make sanitize $* (log: $log)"
 # Each stage's wall and CPU time (bash's `time`: the children's user + sys), printed at the end.
+# Each `time` runs in its own subshell: in this shell it would also count the background stage's
+# CPU if that stage ended (and was reaped here) while the timed command ran.
 TIMEFORMAT='%R s wall, %U s user + %S s sys CPU'
-{ time make --no-print-directory sanitize "$@" >"$log" 2>&1 ; } 2>build/asan-stage.time &
+( time make --no-print-directory sanitize "$@" >"$log" 2>&1 ) 2>build/asan-stage.time &
 san_pid=$!
 # A stopped make test (Ctrl-C) stops the background stage too.
 trap 'kill "$san_pid" 2>/dev/null' INT TERM
 
-{ time make --no-print-directory build 2>&3 ; } 3>&2 2>build/build-stage.time \
+( time make --no-print-directory build 2>&3 ) 3>&2 2>build/build-stage.time \
   || { echo "==> make build FAILED; stopping the sanitizer stage"; kill "$san_pid" 2>/dev/null; wait; exit 1; }
 echo "==> make build: $(cat build/build-stage.time)"
 echo "==> Python tests (pytest)"
-{ time .venv/bin/python -m pytest -q 2>&3 ; } 3>&2 2>build/pytest-stage.time
+( time .venv/bin/python -m pytest -q 2>&3 ) 3>&2 2>build/pytest-stage.time
 py_rc=$?
 echo "==> pytest: $(cat build/pytest-stage.time); waiting for the sanitizer stage"
 
