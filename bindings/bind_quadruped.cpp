@@ -99,6 +99,7 @@ void bind_quadruped(py::module_& m) {
       .def_readwrite("actuation_delay", &QuadrupedConfig::actuation_delay)
       .def_readwrite("predict_in_flight", &QuadrupedConfig::predict_in_flight)
       .def_readwrite("predict_legs_free", &QuadrupedConfig::predict_legs_free)
+      .def_readwrite("predict_leg_dynamics", &QuadrupedConfig::predict_leg_dynamics)
       .def_readwrite("trust_ramp", &QuadrupedConfig::trust_ramp)
       .def_readwrite("load_ramp", &QuadrupedConfig::load_ramp)
       .def_readwrite("max_position_lag", &QuadrupedConfig::max_position_lag)

@@ -87,6 +87,10 @@ FreeLegInertia free_leg_inertia(const RobotModel& model, const std::string& trun
     KDL::JntSpaceInertiaMatrix H(n);
     dyn.JntToMass(qj, H);
     out.coupling[leg] = A * H.data.inverse() * A.transpose();
+    if (n == 3) {
+      out.momentum[leg] = A;
+      out.joint_inertia_inverse[leg] = H.data.inverse();
+    }
   }
   return out;
 }

@@ -221,6 +221,7 @@ Status QuadrupedController::configure(const QuadrupedConfig& config, RobotModelP
       c.inertia_ = cfg.inertia_diag.asDiagonal();
       c.inertia_free_.composite.bottomRightCorner<3, 3>() = c.inertia_;
       for (auto& a : c.inertia_free_.coupling) a = scale * a * scale;
+      for (auto& a : c.inertia_free_.momentum) a = scale * a;
     }
     cfg.inertia_diag = c.inertia_.diagonal();
   }
@@ -366,6 +367,7 @@ Status QuadrupedController::run(const QuadrupedInput& in, QuadrupedOutput& out) 
   stance_legs(out);
   saturate(out.tau, &tick_.status);
   swing_joint_accelerations(out.tau);
+  trunk_rotation_from_torques(out.tau);
   tau_prev_ = out.tau;
   have_output_ = true;
   return tick_.status;
@@ -698,6 +700,24 @@ void QuadrupedController::swing_joint_accelerations(const Vector12d& tau) noexce
     k.qdd.segment<3>(3 * i) =
         k.stance[i] ? Eigen::Vector3d::Zero()
                     : Eigen::Vector3d(leg_mass_inverse_[i] * (tau.segment<3>(3 * i) - k.tau_gravity[i]));
+}
+
+// 8c. The trunk's angular acceleration when the torques sent (after saturation) land, from the
+// floating base's dynamics with the legs' masses (predict_leg_dynamics, trunk_rotation.hpp); the
+// rigid model of distribute_forces stays where it cannot be used (a straight stance leg).
+void QuadrupedController::trunk_rotation_from_torques(const Vector12d& tau) noexcept {
+  Tick& k = tick_;
+  if (!cfg_.predict_in_flight || !cfg_.predict_leg_dynamics) return;
+  LegTorques legs;
+  for (int i = 0; i < kLegs; ++i) {
+    legs.jacobian[i] = k.J[i];
+    legs.foot[i] = k.meas[i].r - com_;
+    legs.pinned[i] = k.stance[i];
+    legs.torque[i] = tau.segment<3>(3 * i) - k.tau_gravity[i];
+  }
+  Vector6d a;
+  if (trunk_acceleration(inertia_free_, legs, k.R.transpose() * Eigen::Vector3d(0, 0, -kGravity), &a))
+    k.accel.tail<3>() = k.R * a.tail<3>();
 }
 
 // 9. Force distribution over the legs that are both scheduled and detected on the ground.

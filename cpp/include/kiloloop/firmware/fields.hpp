@@ -120,6 +120,7 @@ void visit_fields(QuadrupedConfig& c, V&& v) {
   v("actuation_delay", c.actuation_delay);
   v("predict_in_flight", c.predict_in_flight);
   v("predict_legs_free", c.predict_legs_free);
+  v("predict_leg_dynamics", c.predict_leg_dynamics);
   v("trust_ramp", c.trust_ramp);
   v("load_ramp", c.load_ramp);
   v("max_tilt", c.max_tilt);

@@ -29,6 +29,11 @@ KDL::Chain leg_chain(const RobotModel& model, const std::string& trunk, const st
 struct FreeLegInertia {
   Matrix6d composite = Matrix6d::Identity();
   std::array<Matrix6d, 4> coupling{};
+  // Per leg, the parts of the coupling (standing pose): A, the momentum about the CoM per unit
+  // joint velocity ([linear; angular], trunk frame), and H^-1, the joint-space inertia's inverse.
+  // With them the floating base's mass matrix is [composite, A; A^T, H] (trunk_rotation.hpp).
+  std::array<Eigen::Matrix<double, 6, 3>, 4> momentum{};
+  std::array<Eigen::Matrix3d, 4> joint_inertia_inverse{};
   // [kg m^2] rotational inertia about the CoM with the legs marked free: composite less their
   // couplings, the linear part eliminated (allocation-free; all free: the articulated-body
   // inertia of the floating base).
