@@ -16,6 +16,13 @@ struct LogChannel {
 
 class LogBuffer {
  public:
+  LogBuffer() = default;
+  // Movable (a vector's move keeps its buffer, so the slots stay valid), not copyable: a copy's
+  // slots would point into the original's buffers.
+  LogBuffer(LogBuffer&&) = default;
+  LogBuffer& operator=(LogBuffer&&) = default;
+  LogBuffer(const LogBuffer&) = delete;
+  LogBuffer& operator=(const LogBuffer&) = delete;
   // Configure time: a channel and its per-tick shape; returns its id.
   int declare(const std::string& name, std::vector<int> shape) {
     LogChannel c;
@@ -28,19 +35,31 @@ class LogBuffer {
   }
   void allocate(int ticks) {
     ticks_ = ticks;
-    for (auto& c : channels_) c.data.assign(static_cast<size_t>(ticks) * c.width, 0.0);
+    slots_.clear();
+    for (auto& c : channels_) {
+      c.data.assign(static_cast<size_t>(ticks) * c.width, 0.0);
+      slots_.push_back({c.data.data(), static_cast<size_t>(c.width)});
+    }
   }
   // The row of channel `id` at tick k (no bounds check: the loop writes ticks < allocate()'s).
   double* row(int id, int k) noexcept {
-    auto& c = channels_[id];
-    return c.data.data() + static_cast<size_t>(k) * c.width;
+    const Slot& s = slots_[id];
+    return s.data + static_cast<size_t>(k) * s.width;
   }
   int ticks() const { return ticks_; }
   const std::vector<LogChannel>& channels() const { return channels_; }
   std::vector<LogChannel>& channels() { return channels_; }
 
  private:
+  // Per channel, what row() reads, packed (16 bytes a channel instead of a whole LogChannel with
+  // its name and shape): a tick's log writes touch a few cache lines of bookkeeping, not one per
+  // channel. Set by allocate(); the data buffers do not move afterwards.
+  struct Slot {
+    double* data;
+    size_t width;
+  };
   std::vector<LogChannel> channels_;
+  std::vector<Slot> slots_;
   int ticks_ = 0;
 };
 

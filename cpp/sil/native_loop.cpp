@@ -36,6 +36,30 @@ int probe_width(const mjModel* m, const Probe& p, std::vector<int>* shape, std::
   *why = "probe " + p.name + ": index out of range for this model";
   return -1;
 }
+// Where each logged element of probe p is read, in log order: the data's arrays (they do not
+// move while the data lives) or the probe's contact-force accumulator.
+void probe_sources(const mjData* d, const Probe& p, const ContactForces& contact,
+                   std::vector<const double*>* out) {
+  using S = Probe::Source;
+  const int i0 = p.index.empty() ? 0 : p.index[0];
+  auto span = [&](const double* first, int n) {
+    for (int j = 0; j < n; ++j) out->push_back(first + j);
+  };
+  switch (p.source) {
+    case S::kSensor: for (int i : p.index) out->push_back(d->sensordata + i); break;
+    case S::kQpos: for (int i : p.index) out->push_back(d->qpos + i); break;
+    case S::kQvel: for (int i : p.index) out->push_back(d->qvel + i); break;
+    case S::kSitePos: span(d->site_xpos + 3 * i0, 3); break;
+    case S::kSiteMat: span(d->site_xmat + 9 * i0, 9); break;
+    case S::kBodyPos: span(d->xpos + 3 * i0, 3); break;
+    case S::kBodyQuat: span(d->xquat + 4 * i0, 4); break;
+    case S::kBodyMat: span(d->xmat + 9 * i0, 9); break;
+    case S::kSubtreeCom: span(d->subtree_com + 3 * i0, 3); break;
+    case S::kActuatorForce: for (int i : p.index) out->push_back(d->actuator_force + i); break;
+    case S::kBodiesPos: for (int b : p.index) span(d->xpos + 3 * b, 3); break;
+    case S::kContactForce: span(contact.forces().data(), static_cast<int>(contact.forces().size())); break;
+  }
+}
 }  // namespace
 
 bool Rollout::configure(const mjModel* model, mjData* data, std::shared_ptr<Adapter> adapter,
@@ -147,6 +171,12 @@ bool Rollout::configure(const mjModel* model, mjData* data, std::shared_ptr<Adap
   }
   adapter->declare(log_);
   log_.allocate(config.ticks);
+  probe_src_.clear();
+  probe_end_.clear();
+  for (size_t i = 0; i < config.probes.size(); ++i) {
+    probe_sources(data, config.probes[i], contact_forces_[i], &probe_src_);
+    probe_end_.push_back(probe_src_.size());
+  }
 
   m_ = model;
   d_ = data;
@@ -234,30 +264,11 @@ void Rollout::tick(int k) {
   delay_.push(t, y_.data(), &stamp, &y);
 
   *log_.row(ch_t_, k) = t;
-  for (size_t p = 0; p < config_.probes.size(); ++p) {
-    const Probe& probe = config_.probes[p];
+  // Ground-truth probes: element by element from the sources configure resolved (one flat
+  // pointer list rather than a switch over each probe's index vector).
+  for (size_t p = 0, j = 0; p < probe_end_.size(); ++p) {
     double* row = log_.row(ch_probe_[p], k);
-    const int i0 = probe.index.empty() ? 0 : probe.index[0];
-    using S = Probe::Source;
-    switch (probe.source) {
-      case S::kSensor: for (size_t j = 0; j < probe.index.size(); ++j) row[j] = d_->sensordata[probe.index[j]]; break;
-      case S::kQpos: for (size_t j = 0; j < probe.index.size(); ++j) row[j] = d_->qpos[probe.index[j]]; break;
-      case S::kQvel: for (size_t j = 0; j < probe.index.size(); ++j) row[j] = d_->qvel[probe.index[j]]; break;
-      case S::kSitePos: std::copy(d_->site_xpos + 3 * i0, d_->site_xpos + 3 * i0 + 3, row); break;
-      case S::kSiteMat: std::copy(d_->site_xmat + 9 * i0, d_->site_xmat + 9 * i0 + 9, row); break;
-      case S::kBodyPos: std::copy(d_->xpos + 3 * i0, d_->xpos + 3 * i0 + 3, row); break;
-      case S::kBodyQuat: std::copy(d_->xquat + 4 * i0, d_->xquat + 4 * i0 + 4, row); break;
-      case S::kBodyMat: std::copy(d_->xmat + 9 * i0, d_->xmat + 9 * i0 + 9, row); break;
-      case S::kSubtreeCom: std::copy(d_->subtree_com + 3 * i0, d_->subtree_com + 3 * i0 + 3, row); break;
-      case S::kActuatorForce: for (size_t j = 0; j < probe.index.size(); ++j) row[j] = d_->actuator_force[probe.index[j]]; break;
-      case S::kBodiesPos:
-        for (size_t j = 0; j < probe.index.size(); ++j)
-          std::copy(d_->xpos + 3 * probe.index[j], d_->xpos + 3 * probe.index[j] + 3, row + 3 * j);
-        break;
-      case S::kContactForce:
-        std::copy(contact_forces_[p].forces().begin(), contact_forces_[p].forces().end(), row);
-        break;
-    }
+    for (const size_t end = probe_end_[p]; j < end; ++j) *row++ = *probe_src_[j];
   }
 
   fire_events(t);

@@ -122,6 +122,8 @@ class Rollout {
   size_t next_event_ = 0;
   int k_ = 0;                      // next tick
   std::vector<ContactForces> contact_forces_;  // per probe (empty unless kContactForce)
+  std::vector<const double*> probe_src_;  // every probe element's source, in log order
+  std::vector<size_t> probe_end_;         // per probe: one past its last entry in probe_src_
   LogBuffer log_;
   int ch_t_ = 0;
   std::vector<int> ch_probe_;

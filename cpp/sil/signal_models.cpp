@@ -29,11 +29,17 @@ bool SensorModel::configure(const SensorModelConfig& config, int n, std::string*
   quantum_ = config.quantum.empty() ? std::vector<double>(n, 0.0) : config.quantum;
   noisy_ = false;
   for (double s : sigma_) noisy_ = noisy_ || s > 0.0;
+  quantized_ = false;
+  for (double q : quantum_) quantized_ = quantized_ || q > 0.0;
   rng_.reseed(config.seed);
   return true;
 }
 
 void SensorModel::apply(const double* x, double* y) noexcept {
+  if (!noisy_ && !quantized_) {  // an ideal sensor (no draws either): y = x
+    std::copy(x, x + n_, y);
+    return;
+  }
   for (int i = 0; i < n_; ++i) {
     double v = x[i];
     // A zero sigma skips the sample's log and sqrt (normal_sign), not its draws: same stream,
@@ -54,6 +60,11 @@ void MeasurementDelay::configure(int n, int ticks) {
 }
 
 void MeasurementDelay::push(double t, const double* x, double* stamp, const double** y) noexcept {
+  if (ticks_ == 0) {  // no delay: the sample itself (the ring would hold it one tick, unread)
+    *stamp = t;
+    *y = x;
+    return;
+  }
   const int size = ticks_ + 1;
   // The ring holds the last `size` samples; head_ is the oldest.
   const int slot = (head_ + count_) % size;

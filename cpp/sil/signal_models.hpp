@@ -31,6 +31,7 @@ class SensorModel {
   int n_ = 0;
   std::vector<double> sigma_, quantum_;
   bool noisy_ = false;
+  bool quantized_ = false;  // any quantum > 0
   Rng rng_;
 };
 
@@ -39,7 +40,8 @@ class SensorModel {
 class MeasurementDelay {
  public:
   void configure(int n, int ticks);
-  // Pushes (t, x) and returns the (stamp, y) the controller sees at this tick.
+  // Pushes (t, x) and returns the (stamp, y) the controller sees at this tick (without a delay,
+  // y is x itself: valid while x is).
   void push(double t, const double* x, double* stamp, const double** y) noexcept;
 
  private:

@@ -56,15 +56,22 @@ Status Dynamics::load(const VecRef& q, const VecRef& qd) noexcept {
 
 Status Dynamics::inverse_dynamics(const VecRef& q, const VecRef& qd, const VecRef& qdd,
                                   Eigen::Ref<Eigen::VectorXd> tau) noexcept {
-  Status s = load(q, qd);
-  if (s != Status::kOk) return s;
+  // load()'s checks in load()'s order, without its copies into the KDL arrays: our own pass
+  // reads the caller's contiguous vectors (a computed-torque step calls this every tick).
+  if (!rne_) return Status::kNotConfigured;
+  if (q.size() != nq_) return Status::kBadSize;
+  if (!q.allFinite()) return Status::kNonFiniteMeasurement;
+  if (qd.size() != nq_) return Status::kBadSize;
+  if (!qd.allFinite()) return Status::kNonFiniteMeasurement;
   if (qdd.size() != nq_ || tau.size() != nq_) return Status::kBadSize;
   if (!qdd.allFinite()) return Status::kNonFiniteReference;
-  qdd_.data = qdd;
   if (use_own_rne_) {
-    own_rne_.inverse_dynamics(q_.data.data(), qd_.data.data(), qdd_.data.data(), gravity_, tau_.data.data());
-  } else if (rne_->CartToJnt(q_, qd_, qdd_, no_external_wrench_, tau_) < 0) {
-    return Status::kSolverFailed;
+    own_rne_.inverse_dynamics(q.data(), qd.data(), qdd.data(), gravity_, tau_.data.data());
+  } else {
+    q_.data = q;
+    qd_.data = qd;
+    qdd_.data = qdd;
+    if (rne_->CartToJnt(q_, qd_, qdd_, no_external_wrench_, tau_) < 0) return Status::kSolverFailed;
   }
   tau = tau_.data;
   return Status::kOk;
