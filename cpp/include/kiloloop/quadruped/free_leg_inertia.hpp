@@ -27,13 +27,22 @@ KDL::Chain leg_chain(const RobotModel& model, const std::string& trunk, const st
 // [linear; angular]): the composite 6x6 [m I, 0; 0, I_c] and each leg's joint-space coupling
 // A H^-1 A^T (A: the leg's momentum per unit joint velocity, H its joint-space inertia).
 struct FreeLegInertia {
+  // Zeros (`{}` would leave the Eigen storage of the arrays uninitialized): an unconfigured
+  // controller's copy reads as legs without mass.
+  FreeLegInertia() noexcept {
+    for (int i = 0; i < 4; ++i) {
+      coupling[i].setZero();
+      momentum[i].setZero();
+      joint_inertia_inverse[i].setZero();
+    }
+  }
   Matrix6d composite = Matrix6d::Identity();
-  std::array<Matrix6d, 4> coupling{};
+  std::array<Matrix6d, 4> coupling;
   // Per leg, the parts of the coupling (standing pose): A, the momentum about the CoM per unit
   // joint velocity ([linear; angular], trunk frame), and H^-1, the joint-space inertia's inverse.
   // With them the floating base's mass matrix is [composite, A; A^T, H] (trunk_rotation.hpp).
-  std::array<Eigen::Matrix<double, 6, 3>, 4> momentum{};
-  std::array<Eigen::Matrix3d, 4> joint_inertia_inverse{};
+  std::array<Eigen::Matrix<double, 6, 3>, 4> momentum;
+  std::array<Eigen::Matrix3d, 4> joint_inertia_inverse;
   // [kg m^2] rotational inertia about the CoM with the legs marked free: composite less their
   // couplings, the linear part eliminated (allocation-free; all free: the articulated-body
   // inertia of the floating base).

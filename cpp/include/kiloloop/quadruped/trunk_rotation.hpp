@@ -29,10 +29,20 @@
 namespace kiloloop {
 
 struct LegTorques {
-  std::array<Eigen::Matrix3d, 4> jacobian{};   // foot velocity per joint velocity, trunk frame
-  std::array<Eigen::Vector3d, 4> foot{};       // [m] foot from the CoM, trunk frame
+  // Zeros: `{}` on a std::array of Eigen objects runs Eigen's default constructors, which leave
+  // the storage uninitialized (measured: a test that set one leg's torque read 1e264 from the
+  // others at -O1).
+  LegTorques() noexcept {
+    for (int i = 0; i < 4; ++i) {
+      jacobian[i].setZero();
+      foot[i].setZero();
+      torque[i].setZero();
+    }
+  }
+  std::array<Eigen::Matrix3d, 4> jacobian;     // foot velocity per joint velocity, trunk frame
+  std::array<Eigen::Vector3d, 4> foot;         // [m] foot from the CoM, trunk frame
   std::array<bool, 4> pinned{};                // stance: the foot held by the ground
-  std::array<Eigen::Vector3d, 4> torque{};     // [N m] tau - tau_gravity per leg
+  std::array<Eigen::Vector3d, 4> torque;       // [N m] tau - tau_gravity per leg
 };
 
 // [m/s^2; rad/s^2] trunk frame into *accel; gravity [m/s^2] in the trunk frame. false (accel
