@@ -1,5 +1,6 @@
 #pragma once
-// Models shared by the C++ tests: the UR5 from models/ and a small planar arm from DH.
+// Models shared by the C++ tests: the UR5 and the quadruped from models/ and a small planar arm
+// from DH.
 #include <memory>
 #include <string>
 
@@ -16,6 +17,15 @@ inline RobotModelPtr load_ur5() {
   auto model = std::make_shared<RobotModel>();
   std::string why;
   const Status s = model_from_urdf_file(ur5_urdf_path(), "", "", model.get(), &why);
+  EXPECT_EQ(s, Status::kOk) << why;
+  return model;
+}
+
+inline RobotModelPtr load_quadruped() {
+  auto model = std::make_shared<RobotModel>();
+  std::string why;
+  const Status s = model_from_urdf_file(std::string(KILOLOOP_MODELS_DIR) + "/quadruped/quadruped.urdf",
+                                        "", "", model.get(), &why);
   EXPECT_EQ(s, Status::kOk) << why;
   return model;
 }

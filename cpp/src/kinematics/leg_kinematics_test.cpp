@@ -7,27 +7,17 @@
 #include <kdl/jntarray.hpp>
 
 #include "alloc_counter.hpp"
-#include "kiloloop/urdf/urdf_loader.hpp"
+#include "test_models.hpp"
 
 namespace kiloloop {
 namespace {
 
 const char* kFeet[4] = {"FL_foot", "FR_foot", "RL_foot", "RR_foot"};
 
-RobotModel quadruped() {
-  RobotModel model;
-  std::string why;
-  EXPECT_EQ(model_from_urdf_file(std::string(KILOLOOP_MODELS_DIR) + "/quadruped/quadruped.urdf", "", "",
-                                 &model, &why),
-            Status::kOk)
-      << why;
-  return model;
-}
-
 // The closed form agrees with KDL's chain FK from the same URDF, and the Jacobian with its
 // finite difference, on random configurations of every leg.
 TEST(LegKinematics, MatchesKdlAndFiniteDifferences) {
-  const RobotModel model = quadruped();
+  const RobotModel model = *testing::load_quadruped();
   std::mt19937 rng(17);
   std::uniform_real_distribution<double> u(-1.0, 1.0);
   for (const char* foot : kFeet) {
@@ -57,7 +47,7 @@ TEST(LegKinematics, MatchesKdlAndFiniteDifferences) {
 }
 
 TEST(LegKinematics, InverseRoundTripsAndReportsUnreachable) {
-  const RobotModel model = quadruped();
+  const RobotModel model = *testing::load_quadruped();
   LegGeometry g;
   std::string why;
   ASSERT_EQ(leg_geometry_from_model(model, "trunk", "RR_foot", &g, &why), Status::kOk) << why;

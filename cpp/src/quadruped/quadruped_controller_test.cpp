@@ -8,20 +8,10 @@
 #include <gtest/gtest.h>
 
 #include "alloc_counter.hpp"
-#include "kiloloop/urdf/urdf_loader.hpp"
+#include "test_models.hpp"
 
 namespace kiloloop {
 namespace {
-
-RobotModelPtr quadruped_model() {
-  auto model = std::make_shared<RobotModel>();
-  std::string why;
-  EXPECT_EQ(model_from_urdf_file(std::string(KILOLOOP_MODELS_DIR) + "/quadruped/quadruped.urdf", "",
-                                 "", model.get(), &why),
-            Status::kOk)
-      << why;
-  return model;
-}
 
 QuadrupedInput standing_input(const QuadrupedController& c) {
   QuadrupedInput in;
@@ -36,7 +26,7 @@ QuadrupedController make_controller() {
   QuadrupedConfig config;
   config.body_height = 0.3308;  // the standing pose below: no height error in the first tick
   config.foot_radius = 0.02;
-  EXPECT_EQ(QuadrupedController::configure(config, quadruped_model(), &c, &why), Status::kOk)
+  EXPECT_EQ(QuadrupedController::configure(config, testing::load_quadruped(), &c, &why), Status::kOk)
       << why;
   return c;
 }
@@ -50,7 +40,7 @@ TEST(QuadrupedController, ConfiguresFromTheUrdf) {
   QuadrupedConfig bad;
   bad.feet[0] = "nose";
   std::string why;
-  EXPECT_FALSE(ok(QuadrupedController::configure(bad, quadruped_model(), &c, &why)));
+  EXPECT_FALSE(ok(QuadrupedController::configure(bad, testing::load_quadruped(), &c, &why)));
   EXPECT_NE(why.find("nose"), std::string::npos);
 }
 
@@ -62,7 +52,7 @@ TEST(QuadrupedController, DerivesStandPoseInertiaAndThresholds) {
   std::string why;
   QuadrupedConfig config;
   config.foot_radius = 0.02;
-  ASSERT_EQ(QuadrupedController::configure(config, quadruped_model(), &c, &why), Status::kOk) << why;
+  ASSERT_EQ(QuadrupedController::configure(config, testing::load_quadruped(), &c, &why), Status::kOk) << why;
   const QuadrupedConfig& d = c.config();
   EXPECT_GT(d.body_height, 0.2);
   for (int i = 0; i < 4; ++i) {
@@ -83,7 +73,7 @@ TEST(QuadrupedController, RefusesSwappedFeetWithAClearReason) {
   std::string why;
   QuadrupedConfig config;
   config.feet = {"FR_foot", "FL_foot", "RL_foot", "RR_foot"};
-  EXPECT_EQ(QuadrupedController::configure(config, quadruped_model(), &c, &why), Status::kModelError);
+  EXPECT_EQ(QuadrupedController::configure(config, testing::load_quadruped(), &c, &why), Status::kModelError);
   EXPECT_NE(why.find("'FR_foot' is listed as front-left"), std::string::npos) << why;
 }
 
@@ -203,7 +193,7 @@ TEST(QuadrupedController, EstimatorConfigIsValidatedWithAClearReason) {
     QuadrupedController c;
     why.clear();
     if (std::string(k.word) != "dt") {  // the controller's dt is the estimator's
-      EXPECT_EQ(QuadrupedController::configure(config, quadruped_model(), &c, &why), Status::kInvalidConfig);
+      EXPECT_EQ(QuadrupedController::configure(config, testing::load_quadruped(), &c, &why), Status::kInvalidConfig);
       EXPECT_NE(why.find(k.word), std::string::npos) << why;
     }
   }
@@ -221,7 +211,7 @@ TEST(QuadrupedController, QuaternionCountsOnlyWhenAnExternalAhrsIsUsed) {
   config.body_height = 0.3308;
   config.estimator.external_attitude = true;
   std::string why;
-  ASSERT_EQ(QuadrupedController::configure(config, quadruped_model(), &ahrs, &why), Status::kOk) << why;
+  ASSERT_EQ(QuadrupedController::configure(config, testing::load_quadruped(), &ahrs, &why), Status::kOk) << why;
   EXPECT_EQ(ahrs.step(in, out), Status::kNonFiniteMeasurement);
 }
 

@@ -8,7 +8,7 @@
 
 #include "kiloloop/model/gravity.hpp"
 #include "kiloloop/quadruped/quadruped_controller.hpp"
-#include "kiloloop/urdf/urdf_loader.hpp"
+#include "test_models.hpp"
 
 namespace kiloloop {
 namespace {
@@ -20,12 +20,8 @@ struct Standing {
 };
 
 Standing standing() {
-  auto model = std::make_shared<RobotModel>();
+  const RobotModelPtr model = testing::load_quadruped();
   std::string why;
-  EXPECT_EQ(model_from_urdf_file(std::string(KILOLOOP_MODELS_DIR) + "/quadruped/quadruped.urdf", "",
-                                 "", model.get(), &why),
-            Status::kOk)
-      << why;
   Standing s;
   QuadrupedConfig config;
   config.foot_radius = 0.02;
