@@ -42,9 +42,9 @@ void SensorModel::apply(const double* x, double* y) noexcept {
   }
   for (int i = 0; i < n_; ++i) {
     double v = x[i];
-    // A zero sigma skips the sample's log and sqrt (normal_sign), not its draws: same stream,
-    // same output bit for bit (v + (+-0.0) keeps the sign rule of v + 0 * N).
-    if (noisy_) v += sigma_[i] * (sigma_[i] > 0.0 ? rng_.normal() : rng_.normal_sign());
+    // A zero sigma still draws its sample: the stream of every element does not depend on
+    // which others are noisy.
+    if (noisy_) v += sigma_[i] * rng_.normal();
     // nearbyint in the default rounding mode rounds half to even, as numpy.round does.
     if (quantum_[i] > 0.0) v = quantum_[i] * std::nearbyint(v / quantum_[i]);
     y[i] = v;
