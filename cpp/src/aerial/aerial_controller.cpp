@@ -190,6 +190,7 @@ Status AerialController::configure(const AerialConfig& config, RobotModelPtr mod
     *v = Eigen::VectorXd::Zero(nq);
   c.J_ = Eigen::MatrixXd::Zero(6, nq);
   c.T_.setIdentity();
+  c.tip_.setZero();
   c.p_ref_.setZero();
   c.v_ref_.setZero();
   c.a_ref_.setZero();
@@ -519,7 +520,7 @@ Status AerialController::arm_dynamics(const AerialInput& in, AerialOutput& out) 
                             ? in.accel
                             : Eigen::Vector3d(R.transpose() * (tick_.a_des - cfg_.gravity));
   base.alpha = tick_.alpha;
-  if (failed(rne_.compute(in.q, in.qd, qdd_cmd_, base, tau_, &tick_.W))) {
+  if (failed(rne_.compute(in.q, in.qd, qdd_cmd_, base, tau_, &tick_.W, &tip_))) {
     failsafe(out, false);
     return Status::kSolverFailed;
   }
@@ -563,8 +564,7 @@ Status AerialController::arm_output(const AerialInput& in, AerialOutput& out) no
   const Status torques = clip_effort(Status::kOk, out.tau, effort_);  // control/rules.hpp
   if (!failed(torques)) tick_.status = worst(tick_.status, torques);
   if (nq_ > 0) {
-    kin_.forward_kinematics(in.q, T_);
-    out.ee_position = in.position + tick_.R * T_.block<3, 1>(0, 3);
+    out.ee_position = in.position + tick_.R * tip_;  // at in.q, from arm_dynamics' pass
   } else {
     out.ee_position = in.position;
   }

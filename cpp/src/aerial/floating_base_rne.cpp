@@ -21,7 +21,7 @@ Status FloatingBaseRne::configure(RobotModelPtr model, FloatingBaseRne* out, std
 
 Status FloatingBaseRne::compute(const VecRef& q, const VecRef& qd, const VecRef& qdd,
                                 const BaseMotion& base, Eigen::Ref<Eigen::VectorXd> tau,
-                                Vector6d* wrench_on_arm) noexcept {
+                                Vector6d* wrench_on_arm, Eigen::Vector3d* tip_position) noexcept {
   if (!model_) return Status::kNotConfigured;
   if (tau.size() == nq_) tau.setZero();
   if (wrench_on_arm) wrench_on_arm->setZero();
@@ -38,6 +38,10 @@ Status FloatingBaseRne::compute(const VecRef& q, const VecRef& qd, const VecRef&
   rne_.inverse_dynamics(q.data(), qd.data(), qdd.data(), base.v, base.omega, a_lin, base.alpha, tau.data(),
                         root.data());
   if (wrench_on_arm) *wrench_on_arm = root;
+  if (tip_position) {
+    Eigen::Matrix3d rot;
+    rne_.last_tip_pose(&rot, tip_position);
+  }
   return Status::kOk;
 }
 
@@ -48,18 +52,7 @@ Status FloatingBaseRne::first_moment(const VecRef& q, Eigen::Vector3d* moment,
   if (!model_) return Status::kNotConfigured;
   if (q.size() != nq_) return Status::kBadSize;
   if (!q.allFinite()) return Status::kNonFiniteMeasurement;
-  const KDL::Chain& chain = *chain_;
-  KDL::Frame T = KDL::Frame::Identity();
-  int j = 0;
-  for (unsigned i = 0; i < chain.getNrOfSegments(); ++i) {
-    const KDL::Segment& seg = chain.getSegment(i);
-    const bool moving = seg.getJoint().getType() != KDL::Joint::Fixed;
-    T = T * seg.pose(moving ? q[j++] : 0.0);
-    const double m = seg.getInertia().getMass();
-    const KDL::Vector c = T * seg.getInertia().getCOG();
-    *moment += m * Eigen::Vector3d(c.x(), c.y(), c.z());
-    *mass += m;
-  }
+  rne_.first_moment(q.data(), moment, mass);
   return Status::kOk;
 }
 

@@ -5,6 +5,7 @@
 #include <random>
 
 #include <gtest/gtest.h>
+#include <kdl/chainfksolverpos_recursive.hpp>
 #include <kdl/chainidsolver_recursive_newton_euler.hpp>
 
 #include "aerial_model.hpp"
@@ -39,13 +40,18 @@ TEST(FloatingBaseRne, BaseAtRestEqualsKdlFixedBaseRne) {
         qdd(u(rng), u(rng), u(rng));
     Eigen::VectorXd tau(3), tau_kdl(3);
     Vector6d W;
-    ASSERT_EQ(rne.compute(q, qd, qdd, rest, tau, &W), Status::kOk);
+    Eigen::Vector3d tip;
+    ASSERT_EQ(rne.compute(q, qd, qdd, rest, tau, &W, &tip), Status::kOk);
     kq.data = q;
     kqd.data = qd;
     kqdd.data = qdd;
     ASSERT_GE(kdl.CartToJnt(kq, kqd, kqdd, none, ktau), 0);
     tau_kdl = ktau.data;
     EXPECT_LT((tau - tau_kdl).cwiseAbs().maxCoeff(), 1e-12) << "trial " << trial;
+    // The end effector from the same pass, against KDL's forward kinematics at q.
+    KDL::Frame f;
+    ASSERT_GE(KDL::ChainFkSolverPos_recursive(chain).JntToCart(kq, f), 0);
+    EXPECT_LT((tip - Eigen::Vector3d(f.p.x(), f.p.y(), f.p.z())).cwiseAbs().maxCoeff(), 1e-12) << "trial " << trial;
   }
 }
 
@@ -133,13 +139,15 @@ TEST(FloatingBaseRne, IsAllocationFree) {
   FloatingBaseRne rne = make_rne(model);
   Eigen::VectorXd tau(3);
   Vector6d W;
-  Eigen::Vector3d q(0.1, 0.2, 0.3), qd(0.4, 0.5, 0.6);
+  Eigen::Vector3d q(0.1, 0.2, 0.3), qd(0.4, 0.5, 0.6), tip, moment;
+  double mass;
   BaseMotion base;
   base.omega << 0.1, -0.2, 0.3;
   testing::AllocationScope scope;
   for (int k = 0; k < 10000; ++k) {
     q[k % 3] += 1e-6;
-    rne.compute(q, qd, q, base, tau, &W);
+    rne.compute(q, qd, q, base, tau, &W, &tip);
+    rne.first_moment(q, &moment, &mass);
   }
   EXPECT_EQ(scope.count(), 0u);
 }

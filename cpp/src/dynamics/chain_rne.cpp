@@ -131,9 +131,14 @@ Status ChainRne::configure(const KDL::Chain& chain, ChainRne* out, std::string* 
       s.has_inertia = s.mass != 0.0 || !s.inertia.isZero(0.0);
     }
     r.segments_ = std::move(kept);
+    r.tail_rot_ = to_eigen(F.M);
+    r.tail_pos_ = to_eigen(F.p);
   }
   for (Segment& s : r.segments_) split(s);  // the folded joints' own
-  r.state_.resize(r.segments_.size());
+  State rest;  // every pose identity, every motion and force zero until the first pass
+  rest.rot.setIdentity();
+  rest.pos = rest.v = rest.w = rest.a = rest.aw = rest.f = rest.n = Eigen::Vector3d::Zero();
+  r.state_.assign(r.segments_.size(), rest);
   *out = std::move(r);
   return Status::kOk;
 }
@@ -226,6 +231,54 @@ void ChainRne::gravity_torque(const double* q, const Eigen::Vector3d& gravity, d
     a_p = x.a;
   }
   backward(tau, nullptr, nullptr);
+}
+
+template <class PoseOf>
+void ChainRne::compose_tip(PoseOf pose_of, Eigen::Matrix3d* rot, Eigen::Vector3d* pos) const noexcept {
+  Eigen::Matrix3d R = Eigen::Matrix3d::Identity();
+  Eigen::Vector3d p = Eigen::Vector3d::Zero();
+  for (size_t i = 0; i < segments_.size(); ++i) {
+    const State& x = pose_of(i);
+    p.noalias() += R * x.pos;
+    R = R * x.rot;
+  }
+  *pos = p + R * tail_pos_;
+  *rot = R * tail_rot_;
+}
+
+void ChainRne::tip_pose(const double* q, Eigen::Matrix3d* rot, Eigen::Vector3d* pos) const noexcept {
+  State x;
+  compose_tip(
+      [&](size_t i) -> const State& {
+        const Segment& s = segments_[i];
+        pose(s, s.kind != Kind::kFixed ? q[s.joint] : 0.0, x);
+        return x;
+      },
+      rot, pos);
+}
+
+void ChainRne::last_tip_pose(Eigen::Matrix3d* rot, Eigen::Vector3d* pos) const noexcept {
+  compose_tip([&](size_t i) -> const State& { return state_[i]; }, rot, pos);
+}
+
+void ChainRne::first_moment(const double* q, Eigen::Vector3d* moment, double* mass) const noexcept {
+  Eigen::Matrix3d R = Eigen::Matrix3d::Identity();
+  Eigen::Vector3d p = Eigen::Vector3d::Zero();
+  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+  double m = 0.0;
+  State x;
+  for (const Segment& s : segments_) {
+    pose(s, s.kind != Kind::kFixed ? q[s.joint] : 0.0, x);
+    p.noalias() += R * x.pos;
+    R = R * x.rot;
+    // m c in the root frame: the segment's mass at its tip origin plus its first moment h
+    // (about that origin, tip axes) turned into root axes.
+    sum += s.mass * p;
+    sum.noalias() += R * s.h;
+    m += s.mass;
+  }
+  *moment = sum;
+  *mass = m;
 }
 
 // Leaf to root: tau_j = S . f (+ rotor inertia qdd), and each segment's wrench onto its parent,

@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 #include <kdl/chaindynparam.hpp>
+#include <kdl/chainfksolverpos_recursive.hpp>
 #include <kdl/chainidsolver_recursive_newton_euler.hpp>
 
 #include "alloc_counter.hpp"
@@ -72,6 +73,32 @@ void expect_equal_to_kdl(const KDL::Chain& chain, unsigned seed) {
     rne.gravity_torque(q.data.data(), gravity, g.data());
     EXPECT_LT((g - g_kdl.data).cwiseAbs().maxCoeff(), 1e-12 * (1.0 + g_kdl.data.cwiseAbs().maxCoeff()))
         << "seed " << seed << " k " << k;
+
+    // Tip pose against KDL's recursive FK (the trailing fixed tool frame included), and the
+    // first moment against each segment's centre of mass placed by KDL's FK to that segment.
+    KDL::ChainFkSolverPos_recursive fk(chain);
+    KDL::Frame tip;
+    ASSERT_GE(fk.JntToCart(q, tip), 0);
+    Eigen::Matrix3d rot;
+    Eigen::Vector3d pos;
+    rne.tip_pose(q.data.data(), &rot, &pos);
+    for (int r = 0; r < 3; ++r) {
+      EXPECT_NEAR(pos(r), tip.p(r), 1e-12) << "seed " << seed << " k " << k;
+      for (int c = 0; c < 3; ++c) EXPECT_NEAR(rot(r, c), tip.M(r, c), 1e-12) << "seed " << seed << " k " << k;
+    }
+    Eigen::Vector3d moment_kdl = Eigen::Vector3d::Zero(), moment;
+    double mass_kdl = 0.0, mass = 0.0;
+    for (unsigned i = 0; i < chain.getNrOfSegments(); ++i) {
+      KDL::Frame f;
+      ASSERT_GE(fk.JntToCart(q, f, static_cast<int>(i) + 1), 0);
+      const KDL::RigidBodyInertia& I = chain.getSegment(i).getInertia();
+      const KDL::Vector c = f * I.getCOG();
+      moment_kdl += I.getMass() * Eigen::Vector3d(c.x(), c.y(), c.z());
+      mass_kdl += I.getMass();
+    }
+    rne.first_moment(q.data.data(), &moment, &mass);
+    EXPECT_LT((moment - moment_kdl).cwiseAbs().maxCoeff(), 1e-12 * (1.0 + mass_kdl)) << "seed " << seed << " k " << k;
+    EXPECT_NEAR(mass, mass_kdl, 1e-12 * mass_kdl);
   }
 }
 
@@ -95,10 +122,15 @@ TEST(ChainRne, IsAllocationFree) {
   ASSERT_EQ(ChainRne::configure(mixed_chain(), &rne, &why), Status::kOk) << why;
   double q[4] = {0.1, 0.2, 0.3, 0.4}, qd[4] = {1, 2, 3, 4}, qdd[4] = {-1, 0, 1, 2}, tau[4];
   const Eigen::Vector3d gravity(0.0, 0.0, -9.81);
+  Eigen::Matrix3d rot;
+  Eigen::Vector3d pos, moment;
+  double mass;
   testing::AllocationScope scope;
   for (int k = 0; k < 1000; ++k) {
     rne.inverse_dynamics(q, qd, qdd, gravity, tau);
     rne.gravity_torque(q, gravity, tau);
+    rne.tip_pose(q, &rot, &pos);
+    rne.first_moment(q, &moment, &mass);
   }
   EXPECT_EQ(scope.count(), 0u);
 }

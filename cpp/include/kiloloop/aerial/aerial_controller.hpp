@@ -221,6 +221,7 @@ class AerialController {
   Eigen::VectorXd q_ref_, qd_ref_, qdd_ref_, q_ik_, qdd_cmd_, tau_;
   Eigen::MatrixXd J_;
   Eigen::Matrix4d T_;
+  Eigen::Vector3d tip_;  // [m] end effector at the measured q, body frame (arm_dynamics' pass)
   Eigen::Vector3d p_ref_, v_ref_, a_ref_, ee_ref_, ee_vel_ref_;
   Eigen::Quaterniond quat_ref_ = Eigen::Quaterniond::Identity();
   double yaw_ref_ = 0.0;

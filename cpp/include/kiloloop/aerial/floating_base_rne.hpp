@@ -50,8 +50,11 @@ class FloatingBaseRne {
   // tau (nq) [N m]: joint torques; wrench_on_arm (6) [N; N m]: force and torque the body applies
   // to the arm, body frame, about the body origin (the arm's reaction on the body is its negative).
   // kBadSize / kNonFiniteMeasurement leave both outputs zero.
+  // tip_position (may be null): the end effector at q [m], body frame, from the same pass's poses
+  // (left as it was on a bad input).
   Status compute(const VecRef& q, const VecRef& qd, const VecRef& qdd, const BaseMotion& base,
-                 Eigen::Ref<Eigen::VectorXd> tau, Vector6d* wrench_on_arm) noexcept;
+                 Eigen::Ref<Eigen::VectorXd> tau, Vector6d* wrench_on_arm,
+                 Eigen::Vector3d* tip_position = nullptr) noexcept;
 
   // The arm's first moment of mass sum(m_i c_i) (3) [kg m] at q, in the root (body) frame, and
   // its mass [kg]: where the arm puts the vehicle's centre of mass.

@@ -45,6 +45,15 @@ class ChainRne {
   // tau = g(q): the same pass with qd = qdd = 0 (no velocity terms computed).
   void gravity_torque(const double* q, const Eigen::Vector3d& gravity, double* tau) noexcept;
 
+  // The chain tip's pose in the root frame at q (rotation, position [m]): KDL's
+  // ChainFkSolverPos_recursive over the same precomputed poses (trailing fixed frames included).
+  void tip_pose(const double* q, Eigen::Matrix3d* rot, Eigen::Vector3d* pos) const noexcept;
+  // The same at the q of the last inverse_dynamics or gravity_torque call, from the segment poses
+  // that pass computed (no trigonometry again). Identity before any pass.
+  void last_tip_pose(Eigen::Matrix3d* rot, Eigen::Vector3d* pos) const noexcept;
+  // The chain's first moment of mass sum(m_i c_i) [kg m] at q in the root frame, and its mass [kg].
+  void first_moment(const double* q, Eigen::Vector3d* moment, double* mass) const noexcept;
+
  private:
   enum class Kind { kFixed, kRevolute, kPrismatic };
   struct Segment {
@@ -73,9 +82,16 @@ class ChainRne {
   };
   void pose(const Segment& s, double q, State& x) const noexcept;
   void backward(double* tau, const double* qdd, double* root_wrench) noexcept;
+  // Root-frame pose of the chain tip from one pose per kept segment (parent frame), in order.
+  template <class PoseOf>
+  void compose_tip(PoseOf pose_of, Eigen::Matrix3d* rot, Eigen::Vector3d* pos) const noexcept;
 
   int nq_ = 0;
   std::vector<Segment> segments_;
+  // Fixed frames after the last moving segment (a flange, a tool point): the chain tip in the
+  // last kept segment's tip frame. Identity when the chain ends on a joint.
+  Eigen::Matrix3d tail_rot_ = Eigen::Matrix3d::Identity();
+  Eigen::Vector3d tail_pos_ = Eigen::Vector3d::Zero();
   std::vector<State> state_;
 };
 
