@@ -32,6 +32,7 @@ void bind_quadruped(py::module_& m) {
       .def_readwrite("accel_noise", &EstimatorConfig::accel_noise)
       .def_readwrite("leg_velocity_noise", &EstimatorConfig::leg_velocity_noise)
       .def_readwrite("foothold_noise", &EstimatorConfig::foothold_noise)
+      .def_readwrite("velocity_gate", &EstimatorConfig::velocity_gate)
       .def_readwrite("ground_filter", &EstimatorConfig::ground_filter)
       .def("validate", [](const EstimatorConfig& c) {
         std::string why;

@@ -27,6 +27,8 @@ Status validate(const EstimatorConfig& c, std::string* why) {
       !(std::isfinite(c.leg_velocity_noise) && c.leg_velocity_noise > 0) ||
       !(std::isfinite(c.foothold_noise) && c.foothold_noise > 0))
     return fail("accel_noise [m/s^2], leg_velocity_noise [m/s], foothold_noise [m] must be finite and > 0");
+  if (!(std::isfinite(c.velocity_gate) && c.velocity_gate >= 0))
+    return fail("velocity_gate must be finite and >= 0 (0: off)");
   if (!(c.ground_filter >= 0 && c.ground_filter <= 1))
     return fail("ground_filter must be in [0, 1] (per touch-down weight)");
   const AttitudeFilterConfig& a = c.attitude;
@@ -113,6 +115,11 @@ Status StateEstimator::update(const Eigen::Vector3d& gyro, const Eigen::Vector3d
   P_ = F * P_ * F.transpose() + Q;
 
   // Correct with the legs in contact (trust-weighted average: one 6-D measurement with H = I).
+  // Each leg's weight is its trust, lowered for a leg whose velocity is inconsistent with the
+  // prediction (EstimatorConfig::velocity_gate).
+  const double leg_var = cfg_.leg_velocity_noise * cfg_.leg_velocity_noise;  // [m^2/s^2]
+  const Eigen::Matrix3d S_leg_inv =
+      (P_.bottomRightCorner<3, 3>() + leg_var * Eigen::Matrix3d::Identity()).inverse();
   int n = 0;
   double weight = 0.0;
   Eigen::Vector3d p_sum = Eigen::Vector3d::Zero(), v_sum = Eigen::Vector3d::Zero();
@@ -120,7 +127,13 @@ Status StateEstimator::update(const Eigen::Vector3d& gyro, const Eigen::Vector3d
     const LegMeasurement& leg = legs[i];
     if (leg.touched_down || (aligning_ && leg.contact)) foothold_latched_[i] = false;
     if (!leg.contact) continue;
-    const double w = std::clamp(leg.trust, 0.0, 1.0);
+    const Eigen::Vector3d v_leg = -R * (leg.v_rel + omega_.cross(leg.r));  // [m/s] world
+    double w = std::clamp(leg.trust, 0.0, 1.0);
+    if (cfg_.velocity_gate > 0) {
+      const Eigen::Vector3d e = v_leg - x_.tail<3>();
+      const double d2 = e.dot(S_leg_inv * e);
+      if (d2 > cfg_.velocity_gate) w *= cfg_.velocity_gate / d2;
+    }
     if (!foothold_latched_[i]) {
       // Settling: the foothold follows the foot where the current estimate puts it.
       footholds_[i] = x_.head<3>() + R * leg.r;
@@ -132,7 +145,7 @@ Status StateEstimator::update(const Eigen::Vector3d& gyro, const Eigen::Vector3d
     ++n;
     if (w <= 0.0) continue;
     p_sum += w * (footholds_[i] - R * leg.r);
-    v_sum += w * (-R * (leg.v_rel + omega_.cross(leg.r)));
+    v_sum += w * v_leg;
     weight += w;
   }
   velocity_correction_.setZero();

@@ -84,6 +84,7 @@ void visit_fields(QuadrupedConfig& c, V&& v) {
   v("estimator.accel_noise", c.estimator.accel_noise);
   v("estimator.leg_velocity_noise", c.estimator.leg_velocity_noise);
   v("estimator.foothold_noise", c.estimator.foothold_noise);
+  v("estimator.velocity_gate", c.estimator.velocity_gate);
   v("estimator.ground_filter", c.estimator.ground_filter);
   v("force.wrench_weight", c.force.wrench_weight);
   v("force.regularization", c.force.regularization);
