@@ -18,7 +18,7 @@ bool trunk_acceleration(const FreeLegInertia& inertia, const LegTorques& legs,
     const Matrix63& A = inertia.momentum[i];
     const Eigen::Matrix3d& H_inv = inertia.joint_inertia_inverse[i];
     const Eigen::Vector3d& u = legs.torque[i];
-    lhs -= A * H_inv * A.transpose();
+    lhs -= inertia.coupling[i];  // A H^-1 A^T: a constant of the standing pose (configure)
     rhs -= A * (H_inv * u);
     if (!legs.pinned[i]) continue;
     const Eigen::Matrix3d& J = legs.jacobian[i];
