@@ -101,11 +101,11 @@ struct QuadrupedConfig {
   double swing_frequency = 30.0;      // [rad/s]
   double swing_damping = 0.7;         // [-]
   // [-] the damping ratio where the joint predictor is on (predict_swing, from 15 ms of delay on
-  // the derived gains): critical. Measured on Go1 at 35 ms with 0.7: the swing feet overshot
-  // their apex (up to 119 mm for 68 planned), came down in about half the reference's descent
-  // time and landed a median 52 ms before the acting schedule's stance (28 ms at 10 ms), with a
-  // median 62 N on the landing foot before its stance began; the trot fell on seed 0. With 1.0 it
-  // passes seeds 0-4 (0.80-1.45 deg RMS). Not used below that delay: at 10 ms 1.0 made Go1's
+  // the derived gains): critical. Measured on Go1 at 35 ms (realistic, seed 0), 0.7 -> 1.0: the
+  // swing apex above lift-off median 71 -> 66 mm, largest 106 -> 76 (68 planned); the peak force
+  // on a landing foot before the acting schedule's stance median 61 -> 48 N (12.5 at 10 ms); the
+  // feet still land a median 52 ms before it (28 at 10 ms); the trot fell at 13.3 s and passes
+  // (0.80 deg RMS; seeds 1-4 too, up to 1.45). Not used below that delay: at 10 ms 1.0 made Go1's
   // slope-trot fall.
   double swing_damping_predicted = 1.0;
   double swing_delay_margin = 0.55;   // [rad] omega * delay (the 17.6 kg model's knee: 50 rad/s at 10 ms)
