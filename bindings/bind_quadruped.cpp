@@ -71,6 +71,7 @@ void bind_quadruped(py::module_& m) {
       .def_readwrite("fz_max", &QuadrupedConfig::fz_max)
       .def_readwrite("swing_frequency", &QuadrupedConfig::swing_frequency)
       .def_readwrite("swing_damping", &QuadrupedConfig::swing_damping)
+      .def_readwrite("swing_damping_predicted", &QuadrupedConfig::swing_damping_predicted)
       .def_readwrite("swing_delay_margin", &QuadrupedConfig::swing_delay_margin)
       .def_readwrite("trunk_delay_margin", &QuadrupedConfig::trunk_delay_margin)
       .def_readwrite("safe_stiffness", &QuadrupedConfig::safe_stiffness)

@@ -78,11 +78,11 @@ Status validate(const QuadrupedConfig& c, std::string* why) {
   if (!(c.trunk_delay_margin > 0)) return fail("trunk_delay_margin must be > 0");
   if (!(c.swing_prediction_residual >= 0 && c.swing_prediction_residual <= 1))
     return fail("swing_prediction_residual must be in [0, 1]");
-  if (!(c.swing_frequency > 0) || !(c.swing_damping >= 0) || !(c.swing_delay_margin > 0) ||
+  if (!(c.swing_frequency > 0) || !(c.swing_damping >= 0) || !(c.swing_damping_predicted >= 0) || !(c.swing_delay_margin > 0) ||
       !(c.swing_predict_from > 0) ||
       !(c.swing_kp.array() >= 0).all() || !(c.swing_kd.array() >= 0).all())
     return fail("swing_frequency, swing_delay_margin, swing_predict_from > 0; swing_damping, "
-                "swing_kp, swing_kd >= 0");
+                "swing_damping_predicted, swing_kp, swing_kd >= 0");
   if (!(c.safe_stiffness > 0) || !(c.safe_time_constant >= 0) || !(c.safe_kp >= 0) || !(c.safe_kd >= 0))
     return fail("safe_stiffness > 0; safe_time_constant, safe_kp, safe_kd >= 0");
   if (!c.kp_position.allFinite() || !c.kd_velocity.allFinite() || !c.kp_orientation.allFinite() ||
@@ -271,15 +271,16 @@ Status QuadrupedController::configure(const QuadrupedConfig& config, RobotModelP
       c.leg_mass_inverse_[i] = Eigen::Matrix3d(H.data).inverse();
     }
     c.swing_inertia_ = inertia;
-    const double w = cfg.swing_frequency;
-    if (cfg.swing_kp.isZero()) cfg.swing_kp = inertia * w * w;
-    if (cfg.swing_kd.isZero()) cfg.swing_kd = 2.0 * cfg.swing_damping * w * inertia;
     // The joint predictor only where the delay takes a large phase at the swing frequency
     // (omega (delay + dt) above swing_predict_from): it models a free leg, so a foot touching early (stones, soft ground)
     // makes its prediction wrong. Measured with it always on: our model fell on stones and
     // compliant ground at 10 ms (it passes both without); at 35 ms it is what makes the trot pass.
     if (cfg.swing_frequency * (cfg.actuation_delay + cfg.dt) <= cfg.swing_predict_from)
       cfg.predict_swing = false;
+    const double w = cfg.swing_frequency;
+    const double zeta = cfg.predict_swing ? cfg.swing_damping_predicted : cfg.swing_damping;
+    if (cfg.swing_kp.isZero()) cfg.swing_kp = inertia * w * w;
+    if (cfg.swing_kd.isZero()) cfg.swing_kd = 2.0 * zeta * w * inertia;
     // With the joint predictor only its error is left of the delay inside the loop.
     const double unpredicted = cfg.predict_swing ? cfg.swing_prediction_residual : 1.0;
     const double t_swing_loop = unpredicted * cfg.actuation_delay + cfg.dt;

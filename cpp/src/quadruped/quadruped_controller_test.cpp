@@ -68,6 +68,35 @@ TEST(QuadrupedController, DerivesStandPoseInertiaAndThresholds) {
   EXPECT_LT(std::abs(c.inertia()(0, 1)), 1e-6);
 }
 
+// The swing joints' damping ratio: swing_damping where the joint predictor is off (10 ms),
+// swing_damping_predicted where it is on (35 ms). A negative one is refused.
+double swing_damping_ratio(double delay, bool* predicted) {
+  QuadrupedController c;
+  std::string why;
+  QuadrupedConfig config;
+  config.foot_radius = 0.02;
+  config.actuation_delay = delay;
+  EXPECT_EQ(QuadrupedController::configure(config, testing::load_quadruped(), &c, &why), Status::kOk) << why;
+  const QuadrupedConfig& d = c.config();
+  *predicted = d.predict_swing;
+  // kd / kp = 2 zeta / w, w = sqrt(kp / I): the swing frequency where the delay does not cap it
+  // (on this model: 50 rad/s at 10 ms, 48 at 35 ms with the predictor, both above 30).
+  return d.swing_kd[2] / (2.0 * d.swing_kp[2]) * d.swing_frequency;
+}
+
+TEST(QuadrupedController, SwingDampingIsCriticalWhereTheJointPredictorRuns) {
+  bool predicted = true;
+  EXPECT_NEAR(swing_damping_ratio(0.010, &predicted), QuadrupedConfig().swing_damping, 1e-9);
+  EXPECT_FALSE(predicted);
+  EXPECT_NEAR(swing_damping_ratio(0.035, &predicted), QuadrupedConfig().swing_damping_predicted, 1e-9);
+  EXPECT_TRUE(predicted);
+  QuadrupedConfig bad;
+  bad.swing_damping_predicted = -1.0;
+  std::string why;
+  EXPECT_EQ(validate(bad, &why), Status::kInvalidConfig);
+  EXPECT_NE(why.find("swing_damping_predicted"), std::string::npos) << why;
+}
+
 TEST(QuadrupedController, RefusesSwappedFeetWithAClearReason) {
   QuadrupedController c;
   std::string why;
@@ -176,6 +205,7 @@ TEST(QuadrupedController, EstimatorConfigIsValidatedWithAClearReason) {
       {[](EstimatorConfig& e) { e.leg_velocity_noise = -1.0; }, "leg_velocity_noise"},
       {[](EstimatorConfig& e) { e.foothold_noise = std::numeric_limits<double>::infinity(); }, "foothold_noise"},
       {[](EstimatorConfig& e) { e.ground_filter = -0.1; }, "ground_filter"},
+      {[](EstimatorConfig& e) { e.velocity_gate = -1.0; }, "velocity_gate"},
       {[](EstimatorConfig& e) { e.attitude.gyro_noise_density = 0.0; }, "gyro_noise_density"},
       {[](EstimatorConfig& e) { e.attitude.max_gyro_bias = -1.0; }, "max_gyro_bias"},
       {[](EstimatorConfig& e) { e.attitude.gyro_bias_random_walk = -1.0; }, "gyro_bias_random_walk"},

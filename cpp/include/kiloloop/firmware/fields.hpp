@@ -109,6 +109,7 @@ void visit_fields(QuadrupedConfig& c, V&& v) {
   v("foothold_shift", c.foothold_shift);
   v("swing_frequency", c.swing_frequency);
   v("swing_damping", c.swing_damping);
+  v("swing_damping_predicted", c.swing_damping_predicted);
   v("swing_delay_margin", c.swing_delay_margin);
   v("swing_feedforward", c.swing_feedforward);
   v("predict_swing", c.predict_swing);
