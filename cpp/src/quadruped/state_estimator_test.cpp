@@ -47,6 +47,23 @@ TEST(StateEstimator, VelocityAidingRemovesTheCentripetalAccelerationOfATurn) {
   EXPECT_LT(std::abs(roll_error_in_a_turn(true)), 0.01 * M_PI / 180.0);
 }
 
+// An estimator configured with `config`, reset on four feet standing still under the trunk
+// (0.3 m below it, 0.4 x 0.2 m apart); `legs` gets those feet.
+StateEstimator standing_estimator(const EstimatorConfig& config,
+                                  std::array<LegMeasurement, StateEstimator::kLegs>* legs) {
+  StateEstimator estimator;
+  std::string why;
+  EXPECT_EQ(estimator.configure(config, &why), Status::kOk) << why;
+  const double x[4] = {0.2, 0.2, -0.2, -0.2}, y[4] = {0.1, -0.1, 0.1, -0.1};
+  for (int i = 0; i < StateEstimator::kLegs; ++i) {
+    (*legs)[i].contact = true;
+    (*legs)[i].r = Eigen::Vector3d(x[i], y[i], -0.3);
+    (*legs)[i].v_rel = Eigen::Vector3d::Zero();
+  }
+  estimator.reset(Eigen::Quaterniond::Identity(), *legs, 0.02);
+  return estimator;
+}
+
 // A standing trunk on four feet, one of which the leg kinematics says moves down at 4 m/s (a
 // foot counted as in contact that is in fact driven through the air): it implies the trunk rises
 // at 4 m/s. Counted in full it drags the estimate toward the mean of the legs (1 m/s); gated
@@ -54,17 +71,8 @@ TEST(StateEstimator, VelocityAidingRemovesTheCentripetalAccelerationOfATurn) {
 double vertical_velocity_with_one_flying_leg(double gate) {
   EstimatorConfig config;
   config.velocity_gate = gate;
-  StateEstimator estimator;
-  std::string why;
-  EXPECT_EQ(estimator.configure(config, &why), Status::kOk) << why;
   std::array<LegMeasurement, StateEstimator::kLegs> legs;
-  const double x[4] = {0.2, 0.2, -0.2, -0.2}, y[4] = {0.1, -0.1, 0.1, -0.1};
-  for (int i = 0; i < StateEstimator::kLegs; ++i) {
-    legs[i].contact = true;
-    legs[i].r = Eigen::Vector3d(x[i], y[i], -0.3);
-    legs[i].v_rel = Eigen::Vector3d::Zero();
-  }
-  estimator.reset(Eigen::Quaterniond::Identity(), legs, 0.02);
+  StateEstimator estimator = standing_estimator(config, &legs);
   legs[0].v_rel = Eigen::Vector3d(0.0, 0.0, -4.0);  // [m/s] the flying foot, trunk frame
   const Eigen::Vector3d gyro = Eigen::Vector3d::Zero(), f(0.0, 0.0, kGravity);
   for (int k = 0; k < 50; ++k) estimator.update(gyro, f, Eigen::Quaterniond::Identity(), legs);
@@ -81,18 +89,8 @@ TEST(StateEstimator, VelocityGateKeepsAFootMovingThroughTheAirOutOfTheEstimate) 
 // and as the estimate approaches it the weights return to the trust. All four feet say the trunk
 // moves forward at 0.5 m/s from rest: within 1 s the estimate is there to 1 cm/s.
 TEST(StateEstimator, VelocityGateStillFollowsAVelocityAllLegsAgreeOn) {
-  EstimatorConfig config;
-  StateEstimator estimator;
-  std::string why;
-  ASSERT_EQ(estimator.configure(config, &why), Status::kOk) << why;
   std::array<LegMeasurement, StateEstimator::kLegs> legs;
-  const double x[4] = {0.2, 0.2, -0.2, -0.2}, y[4] = {0.1, -0.1, 0.1, -0.1};
-  for (int i = 0; i < StateEstimator::kLegs; ++i) {
-    legs[i].contact = true;
-    legs[i].r = Eigen::Vector3d(x[i], y[i], -0.3);
-    legs[i].v_rel = Eigen::Vector3d::Zero();
-  }
-  estimator.reset(Eigen::Quaterniond::Identity(), legs, 0.02);
+  StateEstimator estimator = standing_estimator(EstimatorConfig(), &legs);
   const Eigen::Vector3d gyro = Eigen::Vector3d::Zero(), f(0.0, 0.0, kGravity);
   for (int i = 0; i < StateEstimator::kLegs; ++i) {
     legs[i].v_rel = Eigen::Vector3d(-0.5, 0.0, 0.0);  // [m/s] feet still, trunk moving forward
