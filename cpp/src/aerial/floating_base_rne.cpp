@@ -11,9 +11,12 @@ Status FloatingBaseRne::configure(RobotModelPtr model, FloatingBaseRne* out, std
   }
   FloatingBaseRne r;
   r.model_ = model;
-  r.chain_ = std::make_shared<const KDL::Chain>(model->chain());
   r.nq_ = model->nq();
-  const Status s = ChainRne::configure(*r.chain_, &r.rne_, why);
+  // A copy of the chain to read the constants from: KDL::Joint caches its last pose in mutable
+  // members, so two configures reading one model's chain from two threads would race. Every
+  // tick runs on ChainRne's constants alone.
+  const KDL::Chain chain = model->chain();
+  const Status s = ChainRne::configure(chain, &r.rne_, why);
   if (s != Status::kOk) return s;
   *out = std::move(r);
   return Status::kOk;

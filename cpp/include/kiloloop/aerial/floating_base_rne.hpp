@@ -62,9 +62,6 @@ class FloatingBaseRne {
 
  private:
   RobotModelPtr model_;
-  // This workspace's own copy of the chain: KDL::Joint caches its last pose in mutable members,
-  // so two workspaces stepping one model's chain from two threads would race.
-  std::shared_ptr<const KDL::Chain> chain_;
   int nq_ = 0;
   ChainRne rne_;  // the moving-base Newton-Euler pass over the chain's constants
 };
