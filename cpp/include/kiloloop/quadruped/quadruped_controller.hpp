@@ -133,8 +133,9 @@ struct QuadrupedConfig {
   // leg_joint_inertia.hpp) instead of the standing pose's: the folded swing leg is lighter about
   // the hip (Go1: 0.023 -> 0.012 kg m^2 at the apex), so the standing H under-predicted the swing
   // joints' motion over the delay. Measured at 35 ms (realistic, seeds 0-4): Go1's trot-synchronous
-  // roll 2.84 -> 0.57 deg peak to peak (seed 0), trot roll/pitch RMS 0.78-0.81 -> 0.23-0.55 deg;
-  // on our model the trot RMS rose 0.21-0.44 -> 0.36-0.74 deg. false: the standing pose's M_leg.
+  // roll 2.84 -> 0.57 deg peak to peak (seed 0), trot roll/pitch RMS 0.78-0.81 -> 0.23-0.55 deg,
+  // 0.4 N s/kg push 2.46-2.84 -> 0.81-1.30 deg. Our model needs its derived swing gains with it
+  // (models/quadruped/robot.toml). false: the standing pose's M_leg.
   bool swing_inertia_at_pose = true;
   Eigen::Vector3d swing_kp = Eigen::Vector3d::Zero();  // [N m/rad] abd, pitch, knee; 0: derived
   Eigen::Vector3d swing_kd = Eigen::Vector3d::Zero();  // [N m s/rad]; 0: derived
