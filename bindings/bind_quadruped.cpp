@@ -93,6 +93,7 @@ void bind_quadruped(py::module_& m) {
       .def_readwrite("foothold_shift", &QuadrupedConfig::foothold_shift)
       .def_readwrite("swing_feedforward", &QuadrupedConfig::swing_feedforward)
       .def_readwrite("predict_swing", &QuadrupedConfig::predict_swing)
+      .def_readwrite("swing_inertia_at_pose", &QuadrupedConfig::swing_inertia_at_pose)
       .def_readwrite("swing_predict_from", &QuadrupedConfig::swing_predict_from)
       .def_readwrite("swing_prediction_residual", &QuadrupedConfig::swing_prediction_residual)
       .def_readwrite("swing_kp", &QuadrupedConfig::swing_kp)

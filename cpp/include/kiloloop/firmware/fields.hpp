@@ -113,6 +113,7 @@ void visit_fields(QuadrupedConfig& c, V&& v) {
   v("swing_delay_margin", c.swing_delay_margin);
   v("swing_feedforward", c.swing_feedforward);
   v("predict_swing", c.predict_swing);
+  v("swing_inertia_at_pose", c.swing_inertia_at_pose);
   v("swing_predict_from", c.swing_predict_from);
   v("swing_prediction_residual", c.swing_prediction_residual);
   v("swing_kp", c.swing_kp);
