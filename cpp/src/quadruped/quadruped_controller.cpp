@@ -376,7 +376,9 @@ Status QuadrupedController::run(const QuadrupedInput& in, QuadrupedOutput& out) 
   distribute_forces(out);
   stance_legs(out);
   saturate(out.tau, &tick_.status);
-  swing_joint_accelerations(in, out.tau);
+  // Only the joint predictor reads them (swing_legs): without it (short delays) the per-leg
+  // H(q) solves would be work for nothing; qdd stays the zero set at the tick's start.
+  if (cfg_.predict_swing) swing_joint_accelerations(in, out.tau);
   trunk_rotation_from_torques(out.tau);
   tau_prev_ = out.tau;
   have_output_ = true;
