@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 
 #include <Eigen/Cholesky>
 #include <kdl/frames.hpp>
@@ -186,7 +187,7 @@ Status AerialController::configure(const AerialConfig& config, RobotModelPtr mod
   c.lower_ = has_arm ? model->lower() : Eigen::VectorXd();
   c.upper_ = has_arm ? model->upper() : Eigen::VectorXd();
   c.effort_ = has_arm ? model->effort_limit() : Eigen::VectorXd();
-  for (auto* v : {&c.q_ref_, &c.qd_ref_, &c.qdd_ref_, &c.q_ik_, &c.qdd_cmd_, &c.tau_})
+  for (auto* v : {&c.q_ref_, &c.qd_ref_, &c.qdd_ref_, &c.q_ik_, &c.qdd_cmd_, &c.tau_, &c.moment_q_})
     *v = Eigen::VectorXd::Zero(nq);
   c.J_ = Eigen::MatrixXd::Zero(6, nq);
   c.T_.setIdentity();
@@ -234,6 +235,7 @@ void AerialController::reset() noexcept {
   reaction_tau_rate_.setZero();
   have_reaction_ = false;
   have_com_ = false;
+  have_moment_ = false;
   allocation_.reset();
   have_ref_ = have_ik_ = false;
   saturated_prev_ = false;
@@ -446,10 +448,7 @@ void AerialController::position_loop(const AerialInput& in, AerialOutput& out) n
   const Eigen::Matrix3d& R = tick_.R;
   Eigen::Vector3d p_ref = p_ref_, v_ref = v_ref_;
   if (cfg_.hold_com && has_arm_) {
-    Eigen::Vector3d moment;
-    double m_arm = 0.0;
-    rne_.first_moment(q_ref_, &moment, &m_arm);
-    const Eigen::Vector3d shift = moment / m_total_ - com_nominal_;  // body frame
+    const Eigen::Vector3d shift = arm_moment_at_reference() / m_total_ - com_nominal_;  // body frame
     const Eigen::Vector3d rate =
         have_com_ ? Eigen::Vector3d((shift - com_shift_prev_) / cfg_.dt) : Eigen::Vector3d::Zero();
     com_shift_prev_ = shift;
@@ -459,6 +458,20 @@ void AerialController::position_loop(const AerialInput& in, AerialOutput& out) n
   }
   position_.step(in.position, in.velocity, p_ref, v_ref, a_ref_, saturated_prev_, &tick_.a_des);
   out.acceleration_des = tick_.a_des;
+}
+
+// The arm's first moment (m c, body frame) at q_ref, recomputed only when q_ref changed (bit for
+// bit): a held arm reference (hover, a set point) costs a compare of nq doubles a tick instead
+// of a forward pass.
+const Eigen::Vector3d& AerialController::arm_moment_at_reference() noexcept {
+  const size_t bytes = sizeof(double) * static_cast<size_t>(nq_);
+  if (!have_moment_ || std::memcmp(moment_q_.data(), q_ref_.data(), bytes) != 0) {
+    double m_arm = 0.0;
+    rne_.first_moment(q_ref_, &moment_, &m_arm);
+    moment_q_ = q_ref_;
+    have_moment_ = true;
+  }
+  return moment_;
 }
 
 // Thrust vector (world) and desired attitude, then the attitude law. Only the vertical part of
@@ -493,7 +506,7 @@ void AerialController::thrust_and_attitude(const AerialInput& in, AerialOutput& 
   att.step(tick_.q, in.gyro, target, saturated_prev_, &tick_.tau_body);
   out.attitude_error = att.error();
   const Eigen::Matrix3d& J = att.inertia();
-  tick_.alpha = J.ldlt().solve(tick_.tau_body - in.gyro.cross(J * in.gyro));
+  tick_.alpha = att.inertia_ldlt().solve(tick_.tau_body - in.gyro.cross(J * in.gyro));
   if (!ff) {
     // The rigid vehicle's centre of mass is not the body's when the arm (at nominal) sits off
     // its axis: the collective, through the body CoM, would twist the vehicle about its own CoM

@@ -36,6 +36,7 @@ Status AttitudeController::configure(const AttitudeControlConfig& config,
   AttitudeController c;
   c.cfg_ = config;
   c.J_ = inertia;
+  c.J_ldlt_.compute(inertia);
   c.quaternion_pd_ = QuaternionPdLaw(config.hysteresis);
   c.configured_ = true;
   *out = c;

@@ -41,10 +41,7 @@ Status FloatingBaseRne::compute(const VecRef& q, const VecRef& qd, const VecRef&
   rne_.inverse_dynamics(q.data(), qd.data(), qdd.data(), base.v, base.omega, a_lin, base.alpha, tau.data(),
                         root.data());
   if (wrench_on_arm) *wrench_on_arm = root;
-  if (tip_position) {
-    Eigen::Matrix3d rot;
-    rne_.last_tip_pose(&rot, tip_position);
-  }
+  if (tip_position) rne_.last_tip_position(tip_position);
   return Status::kOk;
 }
 

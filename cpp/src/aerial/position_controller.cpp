@@ -27,6 +27,7 @@ Status PositionController::configure(const PositionControlConfig& config,
   if (failed(s)) return s;
   PositionController c;
   c.cfg_ = config;
+  c.tan_max_tilt_ = std::tan(config.max_tilt);
   c.configured_ = true;
   *out = c;
   return Status::kOk;
@@ -61,7 +62,7 @@ Eigen::Vector3d PositionController::attitude_from_thrust(const Eigen::Vector3d& 
   Eigen::Vector3d f = F;
   f.z() = std::max(f.z(), 1e-3);
   const double horizontal = std::hypot(f.x(), f.y());
-  const double limit = f.z() * std::tan(cfg_.max_tilt);
+  const double limit = f.z() * tan_max_tilt_;
   if (horizontal > limit) {
     f.x() *= limit / horizontal;
     f.y() *= limit / horizontal;

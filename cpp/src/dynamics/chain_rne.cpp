@@ -261,6 +261,15 @@ void ChainRne::last_tip_pose(Eigen::Matrix3d* rot, Eigen::Vector3d* pos) const n
   compose_tip([&](size_t i) -> const State& { return state_[i]; }, rot, pos);
 }
 
+void ChainRne::last_tip_position(Eigen::Vector3d* pos) const noexcept {
+  Eigen::Vector3d p = tail_pos_;
+  for (size_t k = segments_.size(); k-- > 0;) {
+    const State& x = state_[k];
+    p = x.pos + x.rot * p;
+  }
+  *pos = p;
+}
+
 void ChainRne::first_moment(const double* q, Eigen::Vector3d* moment, double* mass) const noexcept {
   Eigen::Matrix3d R = Eigen::Matrix3d::Identity();
   Eigen::Vector3d p = Eigen::Vector3d::Zero();

@@ -65,6 +65,10 @@ void expect_equal_to_kdl(const KDL::Chain& chain, unsigned seed) {
     KDL::ChainIdSolver_RNE kdl(chain, KDL::Vector(gravity.x(), gravity.y(), gravity.z()));
     ASSERT_GE(kdl.CartToJnt(q, qd, qdd, none, tau_kdl), 0);
     rne.inverse_dynamics(q.data.data(), qd.data.data(), qdd.data.data(), gravity, tau.data());
+    Eigen::Matrix3d last_rot;
+    Eigen::Vector3d last_pos, last_position;
+    rne.last_tip_pose(&last_rot, &last_pos);
+    rne.last_tip_position(&last_position);
     const double scale = 1.0 + tau_kdl.data.cwiseAbs().maxCoeff();
     EXPECT_LT((tau - tau_kdl.data).cwiseAbs().maxCoeff(), 1e-12 * scale) << "seed " << seed << " k " << k;
 
@@ -84,6 +88,9 @@ void expect_equal_to_kdl(const KDL::Chain& chain, unsigned seed) {
     rne.tip_pose(q.data.data(), &rot, &pos);
     for (int r = 0; r < 3; ++r) {
       EXPECT_NEAR(pos(r), tip.p(r), 1e-12) << "seed " << seed << " k " << k;
+      EXPECT_NEAR(last_pos(r), tip.p(r), 1e-12) << "seed " << seed << " k " << k;
+      EXPECT_NEAR(last_position(r), tip.p(r), 1e-12) << "seed " << seed << " k " << k;
+      for (int c = 0; c < 3; ++c) EXPECT_NEAR(last_rot(r, c), tip.M(r, c), 1e-12) << "seed " << seed << " k " << k;
       for (int c = 0; c < 3; ++c) EXPECT_NEAR(rot(r, c), tip.M(r, c), 1e-12) << "seed " << seed << " k " << k;
     }
     Eigen::Vector3d moment_kdl = Eigen::Vector3d::Zero(), moment;
@@ -130,6 +137,8 @@ TEST(ChainRne, IsAllocationFree) {
     rne.inverse_dynamics(q, qd, qdd, gravity, tau);
     rne.gravity_torque(q, gravity, tau);
     rne.tip_pose(q, &rot, &pos);
+    rne.last_tip_pose(&rot, &pos);
+    rne.last_tip_position(&pos);
     rne.first_moment(q, &moment, &mass);
   }
   EXPECT_EQ(scope.count(), 0u);

@@ -198,6 +198,7 @@ class AerialController {
   Status guard_output(AerialOutput& out, Status torques) noexcept;
 
   Status accept_references(const AerialInput& in) noexcept;
+  const Eigen::Vector3d& arm_moment_at_reference() noexcept;
   Status arm_target(const Eigen::Matrix3d& R, const AerialInput& in) noexcept;
   void failsafe(AerialOutput& out, bool motors_off) noexcept;
 
@@ -233,6 +234,9 @@ class AerialController {
   Eigen::Vector3d com_nominal_ = Eigen::Vector3d::Zero();  // [m] arm's CoM shift at nominal
   Eigen::Vector3d com_shift_prev_ = Eigen::Vector3d::Zero();  // [m] body frame, last tick
   bool have_com_ = false;
+  Eigen::VectorXd moment_q_;                         // the q_ref moment_ was computed at
+  Eigen::Vector3d moment_ = Eigen::Vector3d::Zero();  // [kg m] arm first moment there, body frame
+  bool have_moment_ = false;
   Eigen::Vector3d reaction_tau_prev_ = Eigen::Vector3d::Zero();  // [N m] for the lead's rate
   Eigen::Vector3d reaction_tau_rate_ = Eigen::Vector3d::Zero();  // [N m/s] low-passed
   bool have_reaction_ = false;

@@ -6,6 +6,7 @@
 // winds up while the rotors are at their limits nor kicks when they come back.
 #include <string>
 
+#include <Eigen/Cholesky>
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
@@ -42,6 +43,9 @@ class AttitudeController {
   const Eigen::Vector3d& error() const { return e_R_; }        // [rad] last e_R
   const Eigen::Vector3d& integral() const { return integral_; }  // [rad s]
   const Eigen::Matrix3d& inertia() const { return J_; }          // [kg m^2]
+  // J's factorization, made once at configure: alpha = J^-1 (tau - w x J w) each tick needs only
+  // the solve (the same LDLT J.ldlt() would build, so the same numbers).
+  const Eigen::LDLT<Eigen::Matrix3d>& inertia_ldlt() const { return J_ldlt_; }
   AttitudeLawType law() const { return cfg_.law; }
 
  private:
@@ -49,6 +53,7 @@ class AttitudeController {
 
   AttitudeControlConfig cfg_;
   Eigen::Matrix3d J_ = Eigen::Matrix3d::Identity();
+  Eigen::LDLT<Eigen::Matrix3d> J_ldlt_{Eigen::Matrix3d::Identity()};
   QuaternionPdLaw quaternion_pd_;
   GeometricSo3Law geometric_;
   Eigen::Vector3d e_R_ = Eigen::Vector3d::Zero();

@@ -46,6 +46,7 @@ class PositionController {
 
  private:
   PositionControlConfig cfg_;
+  double tan_max_tilt_ = 0.0;  // tan(max_tilt), made at configure
   Eigen::Vector3d integral_ = Eigen::Vector3d::Zero();
   bool configured_ = false;
 };

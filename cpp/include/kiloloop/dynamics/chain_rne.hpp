@@ -51,6 +51,9 @@ class ChainRne {
   // The same at the q of the last inverse_dynamics or gravity_torque call, from the segment poses
   // that pass computed (no trigonometry again). Identity before any pass.
   void last_tip_pose(Eigen::Matrix3d* rot, Eigen::Vector3d* pos) const noexcept;
+  // Only its position, composed leaf to root (p = pos_k + rot_k p: a matrix-vector product a
+  // segment instead of last_tip_pose's matrix-matrix one); equal to it up to round-off.
+  void last_tip_position(Eigen::Vector3d* pos) const noexcept;
   // The chain's first moment of mass sum(m_i c_i) [kg m] at q in the root frame, and its mass [kg].
   void first_moment(const double* q, Eigen::Vector3d* moment, double* mass) const noexcept;
 
