@@ -326,10 +326,12 @@ void bind_native(py::module_& parent) {
       .def("last",
            [](const PyRollout& r, const std::string& name) {
              const int k = r.rollout.result().ticks - 1;
-             for (const auto& c : r.rollout.log().channels())
-               if (c.name == name) {
+             const auto& channels = r.rollout.log().channels();
+             for (size_t id = 0; id < channels.size(); ++id)
+               if (channels[id].name == name) {
                  if (k < 0) throw py::value_error("last: no tick run yet");
-                 Eigen::VectorXd v = Eigen::Map<const Eigen::VectorXd>(c.data.data() + static_cast<size_t>(k) * c.width, c.width);
+                 Eigen::VectorXd v = Eigen::Map<const Eigen::VectorXd>(
+                     r.rollout.log().row(static_cast<int>(id), k), channels[id].width);
                  return v;
                }
              throw py::value_error("last: no channel " + name);
@@ -343,12 +345,13 @@ void bind_native(py::module_& parent) {
            [](const PyRollout& r) {
              py::dict out;
              const int ticks = r.rollout.result().ticks;  // rows actually written
-             for (const auto& c : r.rollout.log().channels()) {
+             const auto& channels = r.rollout.log().channels();
+             for (size_t id = 0; id < channels.size(); ++id) {
                std::vector<py::ssize_t> shape{ticks};
-               for (int s : c.shape) shape.push_back(s);
+               for (int s : channels[id].shape) shape.push_back(s);
                py::array_t<double> a(shape);
-               std::copy(c.data.begin(), c.data.begin() + static_cast<size_t>(ticks) * c.width, a.mutable_data());
-               out[py::str(c.name)] = a;
+               r.rollout.log().copy_channel(static_cast<int>(id), ticks, a.mutable_data());
+               out[py::str(channels[id].name)] = a;
              }
              return out;
            },

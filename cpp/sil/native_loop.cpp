@@ -249,8 +249,7 @@ bool Rollout::stop_due(int k) noexcept {
         return true;
       }
   if (config_.stop_probe < 0) return false;
-  return log_.channels()[ch_probe_[config_.stop_probe]].data[static_cast<size_t>(k) *
-             log_.channels()[ch_probe_[config_.stop_probe]].width + config_.stop_element] < config_.stop_below;
+  return log_.row(ch_probe_[config_.stop_probe], k)[config_.stop_element] < config_.stop_below;
 }
 
 void Rollout::tick(int k) {
