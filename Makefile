@@ -44,7 +44,7 @@ SAN_ENV := ASAN_OPTIONS=detect_leaks=1:abort_on_error=1:strict_string_checks=1 \
            UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
            LSAN_OPTIONS=suppressions=$(abspath tests/lsan.supp)
 
-.PHONY: demo test cpp-build cpp-test bench build system-deps clean robot-matrix matrix fuzz sanitize \
+.PHONY: demo test cpp-build cpp-test bench build system-deps clean robot-matrix matrix quadruped-robots fuzz sanitize \
         b2b firmware-loop
 
 demo: build
@@ -83,6 +83,11 @@ robot-matrix: build
 matrix: build
 	$(BIN)/python -m kiloloop.bench.quadruped_matrix bench
 	$(BIN)/python -m kiloloop.bench.quadruped_matrix bench --realistic
+
+# Every quadruped in example-robot-data from a minimal robot file (stand, trot, push, slope,
+# tilt-stop at 10 ms, realistic sensors): bench/quadruped_robots.{md,json}, about 5 minutes.
+quadruped-robots: build
+	$(BIN)/python -m kiloloop.bench.quadruped_robots bench
 
 # The firmware path for our three robots: SIL log -> export -> firmware build (-fno-exceptions
 # -fno-rtti, build/firmware/) -> replay, bit for bit (docs/firmware.md).

@@ -12,6 +12,8 @@ import xml.etree.ElementTree as ET
 
 import numpy as np
 
+from .foot_geometry import foot_depth
+
 # Nested config structs of kl.QuadrupedConfig (robot-file tables [controller.gait] ...).
 _NESTED = ("gait", "contact", "estimator", "force")
 _KNEES = {"auto": "AUTO", "backward": "BACKWARD", "forward": "FORWARD"}
@@ -34,23 +36,19 @@ def controller_schema() -> dict:
 
 
 def foot_radius(robot) -> float:
-    """[m] radius of the first foot's collision sphere (cylinder: its radius; box: half its
-    smallest side); 0 when the foot link has no collision geometry (a point foot)."""
-    feet = robot.section("legs").get("feet") or []
+    """[m] how far the first foot's collision geometry reaches below the foot link's origin
+    (robot/foot_geometry.py: a sphere about the origin gives its radius; offset spheres, meshes,
+    cylinders and boxes their lowest point); 0 for a point foot."""
+    legs = robot.section("legs")
+    feet = legs.get("feet") or []
     if not feet:
         return 0.0
-    root = ET.fromstring(robot.urdf_text())
-    for link in root.findall("link"):
-        if link.get("name") != feet[0]:
-            continue
-        for geom in link.findall("collision/geometry/*"):
-            if geom.tag == "sphere":
-                return float(geom.get("radius"))
-            if geom.tag == "cylinder":
-                return float(geom.get("radius"))
-            if geom.tag == "box":
-                return 0.5 * min(float(v) for v in geom.get("size").split())
-    return 0.0
+    base = legs.get("base")
+    if not base:  # the URDF's root link
+        root = ET.fromstring(robot.urdf_text())
+        children = {j.find("child").get("link") for j in root.findall("joint") if j.find("child") is not None}
+        base = next((l.get("name") for l in root.findall("link") if l.get("name") not in children), "")
+    return foot_depth(robot.urdf, feet[0], base, robot.package_dirs)
 
 
 def _assign(obj, key: str, value, where: str) -> None:

@@ -19,6 +19,7 @@ import mujoco
 import numpy as np
 
 from .floating_base import FloatingBaseReadout, add_free_base, add_imu
+from .geom_bottom import geom_bottom
 from .floating_base import fixed as _fixed
 from .floating_base import unit_quat as _unit_quat
 from .plant import add_joints_and_motors, collision_geoms, spec_from_urdf, urdf_joints
@@ -208,14 +209,15 @@ class FloatingBasePlant(FloatingBaseReadout):
         return _fixed(x, (self.nq,), name)
 
     def _stand_pos(self, quat0: np.ndarray) -> np.ndarray:
-        """Trunk position over the origin at which the lowest foot geom (by its bounding sphere,
-        exact for spheres) touches flat ground at z = 0, with the joints at q0."""
+        """Trunk position over the origin at which the lowest foot geom touches flat ground at
+        z = 0, with the joints at q0 (sil/geom_bottom.py: exact for spheres, capsules, cylinders,
+        boxes and meshes)."""
         d = mujoco.MjData(self.model)
         d.qpos[self._qadr] = self.q0
         d.qpos[self._free_q + 3:self._free_q + 7] = quat0
         mujoco.mj_kinematics(self.model, d)
-        feet = self._geom_foot >= 0
-        bottom = np.min(d.geom_xpos[feet, 2] - self.model.geom_rbound[feet])
+        feet = np.flatnonzero(self._geom_foot >= 0)
+        bottom = min(geom_bottom(self.model, d, g) for g in feet)
         return np.array([0.0, 0.0, -bottom])
 
     def reset(self, q=None, base_pos=None, base_quat=None) -> None:
