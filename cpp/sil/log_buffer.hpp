@@ -38,7 +38,9 @@ class LogBuffer {
     records_.assign(static_cast<size_t>(ticks) * record_, 0.0);
   }
   // The row of channel `id` at tick k (no bounds check: the loop writes ticks < allocate()'s).
-  double* row(int id, int k) noexcept { return records_.data() + static_cast<size_t>(k) * record_ + offsets_[id]; }
+  double* row(int id, int k) noexcept {
+    return records_.data() + static_cast<size_t>(k) * record_ + offsets_[id];
+  }
   const double* row(int id, int k) const noexcept {
     return records_.data() + static_cast<size_t>(k) * record_ + offsets_[id];
   }

@@ -464,8 +464,11 @@ void AerialController::position_loop(const AerialInput& in, AerialOutput& out) n
 // bit): a held arm reference (hover, a set point) costs a compare of nq doubles a tick instead
 // of a forward pass.
 const Eigen::Vector3d& AerialController::arm_moment_at_reference() noexcept {
+  // memcmp, not ==: -0.0 and 0.0 differ here as they may in the pass's rounding. Never with a
+  // null pointer (nq 0: a rigid payload has no joints and no data).
   const size_t bytes = sizeof(double) * static_cast<size_t>(nq_);
-  if (!have_moment_ || std::memcmp(moment_q_.data(), q_ref_.data(), bytes) != 0) {
+  const bool same = have_moment_ && (bytes == 0 || std::memcmp(moment_q_.data(), q_ref_.data(), bytes) == 0);
+  if (!same) {
     double m_arm = 0.0;
     rne_.first_moment(q_ref_, &moment_, &m_arm);
     moment_q_ = q_ref_;
