@@ -13,6 +13,7 @@
 
 #include "kiloloop/control/rules.hpp"
 #include "kiloloop/control/sane_range.hpp"
+#include "kiloloop/quadruped/ldlt3.hpp"
 #include "kiloloop/quadruped/lu3.hpp"
 #include "kiloloop/trajectory/swing_trajectory.hpp"
 
@@ -721,7 +722,7 @@ void QuadrupedController::swing_joint_accelerations(const QuadrupedInput& in, co
       // the standing H for feet at or below the ground, our model still fell on compliant ground.
       const Eigen::Vector3d q_land =
           in.q.segment<3>(3 * i) + cfg_.actuation_delay * in.qd.segment<3>(3 * i);
-      k.qdd.segment<3>(3 * i) = leg_inertia_[i].at(q_land).ldlt().solve(torque);
+      k.qdd.segment<3>(3 * i) = Ldlt3(leg_inertia_[i].at(q_land)).solve(torque);
     } else {
       k.qdd.segment<3>(3 * i) = leg_mass_inverse_[i] * torque;
     }
@@ -773,7 +774,7 @@ void QuadrupedController::distribute_forces(QuadrupedOutput& out) noexcept {
   const Eigen::Matrix3d I_body = cfg_.predict_legs_free ? inertia_free_.rotational(swinging) : inertia_;
   const Eigen::Matrix3d I_world = k.R * I_body * k.R.transpose();
   k.accel.head<3>() = force / mass_;
-  k.accel.tail<3>() = I_world.ldlt().solve(moment);
+  k.accel.tail<3>() = Ldlt3(I_world).solve(moment);  // Eigen's ldlt() bit for bit (ldlt3.hpp)
 }
 
 // 10. Stance legs push with -J^T f.

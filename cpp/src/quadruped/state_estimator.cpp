@@ -6,6 +6,8 @@
 #include <Eigen/Cholesky>
 #include <Eigen/LU>
 
+#include "kiloloop/quadruped/ldlt3.hpp"
+
 namespace kiloloop {
 namespace {
 const Eigen::Vector3d kGravityWorld(0.0, 0.0, -9.81);
@@ -232,7 +234,7 @@ void StateEstimator::fit_ground() noexcept {
     AtA += row * row.transpose();
     Atz += row * f.z();
   }
-  const Eigen::Vector3d sol = AtA.ldlt().solve(Atz);
+  const Eigen::Vector3d sol = Ldlt3(AtA).solve(Atz);  // Eigen's ldlt() bit for bit (ldlt3.hpp)
   if (!sol.allFinite()) return;
   Eigen::Vector3d n(-sol[1], -sol[2], 1.0);
   n.normalize();
