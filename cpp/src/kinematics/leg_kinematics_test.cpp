@@ -46,6 +46,32 @@ TEST(LegKinematics, MatchesKdlAndFiniteDifferences) {
   }
 }
 
+// foot_and_jacobian (one set of sines and cosines) is the two separate calls bit for bit, on
+// every leg of the model (mirrored signs included) and over the joints' whole circle.
+TEST(LegKinematics, FootAndJacobianEqualsTheSeparateCallsExactly) {
+  const RobotModel model = *testing::load_quadruped();
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> u(-3.2, 3.2);
+  for (const char* foot : kFeet) {
+    LegGeometry g;
+    std::string why;
+    ASSERT_EQ(leg_geometry_from_model(model, "trunk", foot, &g, &why), Status::kOk) << why;
+    const LegKinematics leg(g);
+    for (int k = 0; k < 1000; ++k) {
+      const Eigen::Vector3d q(u(rng), u(rng), u(rng));
+      Eigen::Vector3d p;
+      Eigen::Matrix3d J;
+      leg.foot_and_jacobian(q, &p, &J);
+      const Eigen::Vector3d p_ref = leg.foot_position(q);
+      const Eigen::Matrix3d J_ref = leg.jacobian(q);
+      for (int i = 0; i < 3; ++i) {
+        EXPECT_EQ(p[i], p_ref[i]) << foot;
+        for (int j = 0; j < 3; ++j) EXPECT_EQ(J(i, j), J_ref(i, j)) << foot;
+      }
+    }
+  }
+}
+
 TEST(LegKinematics, InverseRoundTripsAndReportsUnreachable) {
   const RobotModel model = *testing::load_quadruped();
   LegGeometry g;

@@ -13,6 +13,8 @@
 
 #include "kiloloop/control/rules.hpp"
 #include "kiloloop/control/sane_range.hpp"
+#include "kiloloop/quadruped/ldlt3.hpp"
+#include "kiloloop/quadruped/lu3.hpp"
 #include "kiloloop/trajectory/swing_trajectory.hpp"
 
 namespace kiloloop {
@@ -422,8 +424,7 @@ void QuadrupedController::leg_kinematics(const QuadrupedInput& in) noexcept {
   const Eigen::Vector3d g_trunk = k.q_prior.conjugate() * Eigen::Vector3d(0, 0, -kGravity);
   for (int i = 0; i < kLegs; ++i) {
     const Eigen::Vector3d q = in.q.segment<3>(3 * i);
-    k.meas[i].r = legs_[i].foot_position(q);
-    k.J[i] = legs_[i].jacobian(q);
+    legs_[i].foot_and_jacobian(q, &k.meas[i].r, &k.J[i]);
     k.meas[i].v_rel = k.J[i] * in.qd.segment<3>(3 * i);
     k.tau_gravity[i] = leg_gravity_[i].torque(q, g_trunk);
   }
@@ -467,7 +468,7 @@ void QuadrupedController::detect_contacts(const QuadrupedInput& in, QuadrupedOut
     const Vector12d& tau_acting =
         cfg_.predict_in_flight && tau_in_flight_.size() > 0 ? tau_in_flight_.oldest(0) : tau_prev_;
     if (std::abs(Jt.determinant()) > 1e-6) {
-      const Eigen::Vector3d f = Jt.partialPivLu().solve(k.tau_gravity[i] - tau_acting.segment<3>(3 * i));
+      const Eigen::Vector3d f = Lu3(Jt).solve(k.tau_gravity[i] - tau_acting.segment<3>(3 * i));
       k.normal_force[i] = n_prev.dot(R_prev * f);
     }
   }
@@ -687,7 +688,7 @@ void QuadrupedController::swing_legs(const QuadrupedInput& in, QuadrupedOutput& 
     const Eigen::Matrix3d Jd = legs_[i].jacobian(q_des);
     Eigen::Vector3d qd_des = Eigen::Vector3d::Zero(), qdd_des = Eigen::Vector3d::Zero();
     if (std::abs(Jd.determinant()) > 1e-6) {
-      const auto lu = Jd.partialPivLu();
+      const Lu3 lu(Jd);
       qd_des = lu.solve(v_rel);
       if (cfg_.swing_feedforward) qdd_des = lu.solve(R.transpose() * a_foot);
     }
@@ -721,7 +722,7 @@ void QuadrupedController::swing_joint_accelerations(const QuadrupedInput& in, co
       // the standing H for feet at or below the ground, our model still fell on compliant ground.
       const Eigen::Vector3d q_land =
           in.q.segment<3>(3 * i) + cfg_.actuation_delay * in.qd.segment<3>(3 * i);
-      k.qdd.segment<3>(3 * i) = leg_inertia_[i].at(q_land).ldlt().solve(torque);
+      k.qdd.segment<3>(3 * i) = Ldlt3(leg_inertia_[i].at(q_land)).solve(torque);
     } else {
       k.qdd.segment<3>(3 * i) = leg_mass_inverse_[i] * torque;
     }
@@ -773,7 +774,7 @@ void QuadrupedController::distribute_forces(QuadrupedOutput& out) noexcept {
   const Eigen::Matrix3d I_body = cfg_.predict_legs_free ? inertia_free_.rotational(swinging) : inertia_;
   const Eigen::Matrix3d I_world = k.R * I_body * k.R.transpose();
   k.accel.head<3>() = force / mass_;
-  k.accel.tail<3>() = I_world.ldlt().solve(moment);
+  k.accel.tail<3>() = Ldlt3(I_world).solve(moment);  // Eigen's ldlt() bit for bit (ldlt3.hpp)
 }
 
 // 10. Stance legs push with -J^T f.

@@ -2,7 +2,10 @@
 // normal-force bounds and the per-foot load share; allocation-free solves.
 #include "kiloloop/quadruped/stance_force.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
+#include <random>
 
 #include <Eigen/Geometry>
 #include <gtest/gtest.h>
@@ -35,6 +38,115 @@ Wrench resultant(const Vector12d& f) {
     w.tail<3>() += kFeet[i].cross(f.segment<3>(3 * i));
   }
   return w;
+}
+
+// The former formulation, kept as the reference: H = A^T S A through Eigen's product, C zeroed
+// whole each tick. The structured H and the block-wise clearing of C must leave every force
+// bit-identical over a long random sequence (stance sets changing, warm starts carried over).
+class ReferenceStanceForce {
+ public:
+  explicit ReferenceStanceForce(const StanceForceConfig& cfg) : cfg_(cfg) {
+    qp::QpSettings settings;
+    settings.max_iterations = cfg.max_iterations;
+    std::string why;
+    EXPECT_EQ(qp::DenseQpSolver::configure(12, 0, 24, settings, &solver_, &why), Status::kOk) << why;
+    A_.setZero();
+    for (int i = 0; i < 4; ++i) A_.block<3, 3>(0, 3 * i).setIdentity();
+    f_prev_.setZero();
+    C_ = Eigen::MatrixXd::Zero(24, 12);
+    d_ = Eigen::VectorXd::Zero(24);
+    lb_ = Eigen::VectorXd::Zero(12);
+    ub_ = Eigen::VectorXd::Zero(12);
+  }
+  Status solve(const Wrench& wrench, const std::array<Eigen::Vector3d, 4>& feet,
+               const std::array<bool, 4>& stance, const std::array<double, 4>& load,
+               const Eigen::Vector3d& normal, Vector12d& f) {
+    for (int i = 0; i < 4; ++i) {
+      const Eigen::Vector3d& v = feet[i];
+      A_.block<3, 3>(3, 3 * i) << 0, -v.z(), v.y(), v.z(), 0, -v.x(), -v.y(), v.x(), 0;
+    }
+    const auto S = cfg_.wrench_weight.asDiagonal();
+    Eigen::Matrix<double, 12, 12> H;
+    H.noalias() = A_.transpose() * S * A_;
+    H.diagonal().array() += cfg_.regularization + cfg_.smoothing;
+    Vector12d g;
+    g.noalias() = -(A_.transpose() * (S * wrench));
+    g -= cfg_.smoothing * f_prev_;
+    const Eigen::Vector3d n = normal.normalized();
+    const Eigen::Vector3d helper = std::abs(n.x()) < 0.9 ? Eigen::Vector3d::UnitX() : Eigen::Vector3d::UnitY();
+    const Eigen::Vector3d t1 = (helper - helper.dot(n) * n).normalized(), t2 = n.cross(t1);
+    int n_in = 0;
+    C_.setZero();
+    constexpr double kInf = std::numeric_limits<double>::infinity();
+    for (int i = 0; i < 4; ++i) {
+      lb_.segment<3>(3 * i).setConstant(stance[i] ? -kInf : 0.0);
+      ub_.segment<3>(3 * i).setConstant(stance[i] ? kInf : 0.0);
+      if (!stance[i]) continue;
+      const Eigen::Vector3d rows[4] = {t1 - cfg_.mu * n, -t1 - cfg_.mu * n, t2 - cfg_.mu * n,
+                                       -t2 - cfg_.mu * n};
+      for (const auto& row : rows) {
+        C_.block<1, 3>(n_in, 3 * i) = row.transpose();
+        d_[n_in++] = 0.0;
+      }
+      C_.block<1, 3>(n_in, 3 * i) = -n.transpose();
+      d_[n_in++] = -cfg_.fz_min;
+      C_.block<1, 3>(n_in, 3 * i) = n.transpose();
+      const double share = std::isfinite(load[i]) ? std::clamp(load[i], 0.0, 1.0) : 1.0;
+      d_[n_in++] = cfg_.fz_min + share * (cfg_.fz_max - cfg_.fz_min);
+    }
+    Vector12d x;
+    const Eigen::MatrixXd none_rows = Eigen::MatrixXd::Zero(0, 12);
+    const Eigen::VectorXd none = Eigen::VectorXd::Zero(0);
+    const qp::QpResult r = solver_.solve(H, g, none_rows, none, C_.topRows(n_in), d_.head(n_in), lb_, ub_, x);
+    iterations_ = r.iterations;
+    if (r.status != qp::QpStatus::kOptimal || !x.allFinite()) {
+      f = f_prev_;
+      return Status::kSolverFailed;
+    }
+    f = x;
+    f_prev_ = x;
+    return Status::kOk;
+  }
+  int iterations() const { return iterations_; }
+
+ private:
+  StanceForceConfig cfg_;
+  qp::DenseQpSolver solver_;
+  int iterations_ = 0;
+  Eigen::Matrix<double, 6, 12> A_;
+  Vector12d f_prev_;
+  Eigen::MatrixXd C_;
+  Eigen::VectorXd d_, lb_, ub_;
+};
+
+TEST(StanceForceQp, SameForcesAsTheProductFormulationBitForBit) {
+  StanceForceConfig cfg;
+  cfg.wrench_weight << 1.0, 1.0, 1.0, 250.0, 120.0, 60.0;
+  StanceForceQp qp = make_qp(cfg);
+  ReferenceStanceForce ref(cfg);
+  std::mt19937 rng(21);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  int solved = 0;
+  for (int tick = 0; tick < 3000; ++tick) {
+    std::array<Eigen::Vector3d, 4> feet = kFeet;
+    for (auto& p : feet) p += 0.05 * Eigen::Vector3d(u(rng), u(rng), u(rng));
+    // Trot-like: a diagonal pair, sometimes all four, sometimes three.
+    const int phase = (tick / 150) % 4;
+    std::array<bool, 4> stance{phase != 1, phase != 0, phase != 0, phase != 1};
+    if (phase == 3) stance[tick % 4] = u(rng) > 0.0;
+    const std::array<double, 4> load{0.5 + 0.5 * u(rng), 1.0, 0.7, 0.5 + 0.5 * u(rng)};
+    Wrench w;
+    w << 20.0 * u(rng), 20.0 * u(rng), kWeight * (1.0 + 0.2 * u(rng)), 5.0 * u(rng), 5.0 * u(rng), 2.0 * u(rng);
+    const Eigen::Vector3d normal = Eigen::Vector3d(0.1 * u(rng), 0.1 * u(rng), 1.0);
+    Vector12d f, f_ref;
+    const Status st = qp.solve(w, feet, stance, load, normal, f);
+    const Status st_ref = ref.solve(w, feet, stance, load, normal, f_ref);
+    ASSERT_EQ(st, st_ref) << tick;
+    solved += st == Status::kOk;
+    for (int k = 0; k < 12; ++k) ASSERT_EQ(f[k], f_ref[k]) << "tick " << tick << " entry " << k;
+    ASSERT_EQ(qp.last_result().iterations, ref.iterations()) << tick;  // the same active-set path
+  }
+  EXPECT_GT(solved, 2900);
 }
 
 TEST(StanceForceQp, FourFeetCarryTheWeightEvenly) {

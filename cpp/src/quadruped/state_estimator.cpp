@@ -6,6 +6,8 @@
 #include <Eigen/Cholesky>
 #include <Eigen/LU>
 
+#include "kiloloop/quadruped/ldlt3.hpp"
+
 namespace kiloloop {
 namespace {
 const Eigen::Vector3d kGravityWorld(0.0, 0.0, -9.81);
@@ -75,7 +77,7 @@ void StateEstimator::reset(const Eigen::Quaterniond& q0,
   x_[2] = -min_z + foot_radius;
   for (int i = 0; i < kLegs; ++i) footholds_[i] = x_.head<3>() + R * legs[i].r;
   foothold_latched_.fill(true);
-  P_ = Eigen::Matrix<double, 6, 6>::Identity() * 1e-4;
+  P_.reset(1e-4);
   normal_ = Eigen::Vector3d::UnitZ();
   initialised_ = false;  // the first fit takes the plane as it is, unfiltered
   fit_ground();
@@ -106,20 +108,15 @@ Status StateEstimator::update(const Eigen::Vector3d& gyro, const Eigen::Vector3d
   const Eigen::Vector3d a = R * accel + kGravityWorld;
   x_.head<3>() += dt * x_.tail<3>() + 0.5 * dt * dt * a;
   x_.tail<3>() += dt * a;
-  Eigen::Matrix<double, 6, 6> F = Eigen::Matrix<double, 6, 6>::Identity();
-  F.topRightCorner<3, 3>() = Eigen::Matrix3d::Identity() * dt;
-  Eigen::Matrix<double, 6, 6> Q = Eigen::Matrix<double, 6, 6>::Zero();
-  const double qa = cfg_.accel_noise * cfg_.accel_noise;
-  Q.topLeftCorner<3, 3>().diagonal().setConstant(0.25 * dt * dt * dt * dt * qa);
-  Q.bottomRightCorner<3, 3>().diagonal().setConstant(dt * dt * qa);
-  P_ = F * P_ * F.transpose() + Q;
+  P_.predict(dt, cfg_.accel_noise);  // P = F P F^T + Q (axis_covariance.hpp)
 
   // Correct with the legs in contact (trust-weighted average: one 6-D measurement with H = I).
   // Each leg's weight is its trust, lowered for a leg whose velocity is inconsistent with the
   // prediction (EstimatorConfig::velocity_gate).
   const double leg_var = cfg_.leg_velocity_noise * cfg_.leg_velocity_noise;  // [m^2/s^2]
-  const Eigen::Matrix3d S_leg_inv =
-      (P_.bottomRightCorner<3, 3>() + leg_var * Eigen::Matrix3d::Identity()).inverse();
+  Eigen::Matrix3d S_leg = Eigen::Matrix3d::Zero();
+  S_leg.diagonal().setConstant(P_.velocity_variance() + leg_var);
+  const Eigen::Matrix3d S_leg_inv = S_leg.inverse();
   int n = 0;
   double weight = 0.0;
   Eigen::Vector3d p_sum = Eigen::Vector3d::Zero(), v_sum = Eigen::Vector3d::Zero();
@@ -156,18 +153,19 @@ Status StateEstimator::update(const Eigen::Vector3d& gyro, const Eigen::Vector3d
   }
   Eigen::Matrix<double, 6, 1> z;
   z << p_sum / weight, v_sum / weight;
-  Eigen::Matrix<double, 6, 6> Rm = Eigen::Matrix<double, 6, 6>::Zero();
-  Rm.topLeftCorner<3, 3>().diagonal().setConstant(cfg_.foothold_noise * cfg_.foothold_noise / weight);
-  Rm.bottomRightCorner<3, 3>().diagonal().setConstant(cfg_.leg_velocity_noise *
-                                                      cfg_.leg_velocity_noise / weight);
-  const Eigen::Matrix<double, 6, 6> S = P_ + Rm;
-  const Eigen::Matrix<double, 6, 6> K = P_ * S.inverse();
-  const Eigen::Matrix<double, 6, 1> dx = K * (z - x_);
+  // K = P (P + R)^-1, P = (I - K) P, R = diag(foothold_noise^2, leg_velocity_noise^2) / weight
+  // per axis (axis_covariance.hpp: the 6x6 filter's numbers, per axis).
+  const AxisGain K = P_.correct(cfg_.foothold_noise * cfg_.foothold_noise / weight,
+                                cfg_.leg_velocity_noise * cfg_.leg_velocity_noise / weight);
+  const Eigen::Matrix<double, 6, 1> e = z - x_;
+  Eigen::Matrix<double, 6, 1> dx;
+  for (int a = 0; a < 3; ++a) {
+    dx[a] = K.pp * e[a] + K.pv * e[a + 3];
+    dx[a + 3] = K.vp * e[a] + K.vv * e[a + 3];
+  }
   x_ += dx;
   velocity_correction_ = dx.tail<3>() / dt;
   legs_corrected_ = true;
-  P_ = (Eigen::Matrix<double, 6, 6>::Identity() - K) * P_;
-  P_ = 0.5 * (P_ + P_.transpose());
 
   // The plane's height follows the feet on the ground now. Leg odometry has no absolute height
   // reference, so the estimate (and the footholds latched from it) drift slowly in z (measured:
@@ -236,7 +234,7 @@ void StateEstimator::fit_ground() noexcept {
     AtA += row * row.transpose();
     Atz += row * f.z();
   }
-  const Eigen::Vector3d sol = AtA.ldlt().solve(Atz);
+  const Eigen::Vector3d sol = Ldlt3(AtA).solve(Atz);  // Eigen's ldlt() bit for bit (ldlt3.hpp)
   if (!sol.allFinite()) return;
   Eigen::Vector3d n(-sol[1], -sol[2], 1.0);
   n.normalize();

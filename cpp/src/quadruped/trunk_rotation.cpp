@@ -5,6 +5,8 @@
 #include <Eigen/Cholesky>
 #include <Eigen/LU>
 
+#include "kiloloop/quadruped/ldlt6.hpp"
+
 namespace kiloloop {
 
 bool trunk_acceleration(const FreeLegInertia& inertia, const LegTorques& legs,
@@ -33,7 +35,7 @@ bool trunk_acceleration(const FreeLegInertia& inertia, const LegTorques& legs,
     lhs += B_T * Phi_inv * B_T.transpose();
     rhs += B_T * (Phi_inv * (J * (H_inv * u)));
   }
-  const Vector6 a = lhs.ldlt().solve(rhs);
+  const Vector6 a = Ldlt6(lhs).solve(rhs);  // Eigen's ldlt() bit for bit (ldlt6.hpp)
   if (!a.allFinite()) return false;
   *accel = a;
   return true;

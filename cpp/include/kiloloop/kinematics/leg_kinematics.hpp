@@ -54,6 +54,10 @@ class LegKinematics {
 
   Eigen::Vector3d foot_position(const Eigen::Vector3d& q) const noexcept;  // trunk frame
   Eigen::Matrix3d jacobian(const Eigen::Vector3d& q) const noexcept;       // d foot / d q
+  // Both at once, equal to the two calls bit for bit: they share the joint angles' sines and
+  // cosines (the controller needs both for every leg every tick; three sin/cos pairs per call).
+  void foot_and_jacobian(const Eigen::Vector3d& q, Eigen::Vector3d* foot,
+                         Eigen::Matrix3d* jacobian) const noexcept;
 
   // The solution with the geometry's knee direction. Returns kUnreachable and leaves q untouched
   // when the point is out of reach or the solution breaks a joint limit.

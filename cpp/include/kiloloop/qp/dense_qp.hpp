@@ -123,7 +123,7 @@ class DenseQpSolver {
   AddResult add_constraint(const Problem& p, int c) noexcept;
   void drop_active(int k, int n) noexcept;
   void finish(const Problem& full, const Problem& p, QpResult* res) noexcept;
-  bool verified(const Problem& full) const noexcept;  // the check above
+  bool verified(const Problem& full) noexcept;  // the check above (s_ as scratch)
   void sanitize_result(const Problem& full, QpResult* res) noexcept;      // finite x, multipliers
 
   QpSettings settings_;

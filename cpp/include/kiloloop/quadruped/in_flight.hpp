@@ -15,11 +15,17 @@ class InFlight {
   }
   int size() const noexcept { return static_cast<int>(buf_.size()); }
   // j = 0: the oldest (acting now) ... size() - 1: the newest.
-  const T& oldest(int j) const noexcept { return buf_[(head_ + static_cast<size_t>(j)) % buf_.size()]; }
+  // Indices wrap by a compare, not %: a 64-bit division per access cost ~30 cycles, and the
+  // predictor reads every entry of three buffers each tick (10 at 10 ms, 35 at 35 ms).
+  const T& oldest(int j) const noexcept {
+    size_t i = head_ + static_cast<size_t>(j);
+    if (i >= buf_.size()) i -= buf_.size();  // 0 <= j < size()
+    return buf_[i];
+  }
   void push(const T& v) noexcept {
     if (buf_.empty()) return;
     buf_[head_] = v;
-    head_ = (head_ + 1) % buf_.size();
+    if (++head_ == buf_.size()) head_ = 0;
   }
 
  private:

@@ -42,6 +42,7 @@
 #include <Eigen/Geometry>
 
 #include "kiloloop/quadruped/attitude_filter.hpp"
+#include "kiloloop/quadruped/axis_covariance.hpp"
 #include "kiloloop/status.hpp"
 
 namespace kiloloop {
@@ -131,7 +132,7 @@ class StateEstimator {
   Eigen::Vector3d velocity_correction_ = Eigen::Vector3d::Zero();  // [m/s^2] c: legs' last correction / dt
   bool legs_corrected_ = false;  // the last tick's legs corrected the velocity (c is valid)
   Eigen::Matrix<double, 6, 1> x_ = Eigen::Matrix<double, 6, 1>::Zero();
-  Eigen::Matrix<double, 6, 6> P_ = Eigen::Matrix<double, 6, 6>::Identity();
+  AxisCovariance P_;  // of x_, per axis (the 6x6 is [[a I, b I], [c I, d I]])
   std::array<Eigen::Vector3d, kLegs> footholds_{};
   std::array<bool, kLegs> foothold_latched_{true, true, true, true};
   Eigen::Vector3d normal_ = Eigen::Vector3d::UnitZ();
