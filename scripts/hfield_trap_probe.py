@@ -1,0 +1,79 @@
+"""Does MuJoCo's heightfield hold a foot that sinks into it? A probe behind bench/go1_35ms_diagnosis.md
+("Rough ground at 35 ms").
+
+A 20 mm sphere (the quadrupeds' foot radius), 0.3 kg, moving forward at 0.5 m/s, hits flat ground
+at 1, 2 and 3 m/s downward. The ground is a plane (what quadruped-trot stands on) or a flat
+heightfield built by the rough terrain (sil/terrain.py Rough, amplitude 0), with its 2 cm cells
+(quadruped-rough's) or 5 cm cells. The physics options are the quadruped plant's
+(sil/floating_plant.py: elliptic cone, impratio 100, noslip 5, implicitfast, 1 ms). Prints the
+deepest penetration and where the sphere rests 150 ms after the hit [mm below the surface].
+Then the contact normals of a sphere held at given depths in the 2 cm heightfield.
+
+    .venv/bin/python scripts/hfield_trap_probe.py
+"""
+from __future__ import annotations
+
+import mujoco
+import numpy as np
+
+from kiloloop.sil.terrain import Rough
+
+RADIUS = 0.02  # [m]
+MASS = 0.3     # [kg]
+
+
+def build(cell: float | None):
+    """cell None: a plane at z = 0; else a flat heightfield with that cell [m]."""
+    spec = mujoco.MjSpec()
+    spec.option.cone = mujoco.mjtCone.mjCONE_ELLIPTIC
+    spec.option.impratio = 100.0
+    spec.option.noslip_iterations = 5
+    spec.option.integrator = mujoco.mjtIntegrator.mjINT_IMPLICITFAST
+    spec.option.timestep = 0.001
+    if cell is None:
+        spec.worldbody.add_geom(type=mujoco.mjtGeom.mjGEOM_PLANE, size=[0, 0, 0.05])
+    else:
+        Rough(amplitude=0.0, bump_length=0.3, cell=cell).add_to(spec, 0.8)
+    body = spec.worldbody.add_body(name="foot", pos=[1.2, 0.15, 0.1])
+    body.add_freejoint()
+    body.add_geom(type=mujoco.mjtGeom.mjGEOM_SPHERE, size=[RADIUS, 0, 0], mass=MASS)
+    model = spec.compile()
+    return model, mujoco.MjData(model)
+
+
+def drop(model, data, x: float, vz: float) -> tuple[float, float]:
+    """Deepest penetration and the one 150 ms after a hit at vz [m/s] (mm below the surface)."""
+    mujoco.mj_resetData(model, data)
+    data.qpos[:3] = [x, 0.15, RADIUS + 0.001]
+    data.qvel[0], data.qvel[2] = 0.5, vz
+    deepest = 0.0
+    for _ in range(150):
+        mujoco.mj_step(model, data)
+        deepest = max(deepest, RADIUS - data.qpos[2])
+    return 1e3 * deepest, 1e3 * (RADIUS - data.qpos[2])
+
+
+def main() -> None:
+    for label, cell in (("plane", None), ("heightfield, 2 cm cells", 0.02),
+                        ("heightfield, 5 cm cells", 0.05)):
+        model, data = build(cell)
+        rows = []
+        for vz in (-1.0, -2.0, -3.0):
+            sunk = [drop(model, data, x, vz) for x in (1.2, 1.205, 1.21, 1.2133)]
+            rows.append(f"{-vz:.0f} m/s: deepest {max(s[0] for s in sunk):5.1f}, "
+                        f"after 150 ms {max(s[1] for s in sunk):5.1f}")
+        print(f"{label:<24} " + " | ".join(rows))
+    model, data = build(0.02)
+    print("tilt from vertical [deg] of the contact normals of a sphere held at a depth in the "
+          "2 cm heightfield (flat: all should be 0):")
+    for depth in (0.002, 0.005, 0.010, 0.015, 0.020):
+        mujoco.mj_resetData(model, data)
+        data.qpos[:3] = [1.207, 0.157, RADIUS - depth]
+        mujoco.mj_forward(model, data)
+        tilts = sorted({round(float(np.degrees(np.arccos(min(1.0, abs(data.contact[i].frame[2]))))))
+                        for i in range(data.ncon)})
+        print(f"  {1e3 * depth:4.1f} mm: {data.ncon} contacts, tilts {tilts}")
+
+
+if __name__ == "__main__":
+    main()
