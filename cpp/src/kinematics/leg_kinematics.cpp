@@ -99,60 +99,52 @@ Status leg_geometry_from_model(const RobotModel& model, const std::string& trunk
   return Status::kOk;
 }
 
-Eigen::Vector3d LegKinematics::foot_position(const Eigen::Vector3d& qj) const noexcept {
+// The joint angles' sines and cosines, once: the foot and its Jacobian are read off them.
+LegKinematics::Angles LegKinematics::angles(const Eigen::Vector3d& qj) const noexcept {
   const Eigen::Vector3d q = qj.cwiseProduct(g_.sign);
   const double p1 = q[1] + g_.a_thigh, p12 = q[1] + q[2] + g_.a_shank;
+  Angles a;
+  a.s1 = std::sin(p1), a.c1 = std::cos(p1), a.s12 = std::sin(p12), a.c12 = std::cos(p12);
+  a.s0 = std::sin(q[0]), a.c0 = std::cos(q[0]);
   // In the leg plane (abduction frame): x forward, z down the leg.
-  const double x = -g_.l_thigh * std::sin(p1) - g_.l_shank * std::sin(p12);
-  const double z = g_.h_abd - g_.l_thigh * std::cos(p1) - g_.l_shank * std::cos(p12);
-  const double s0 = std::sin(q[0]), c0 = std::cos(q[0]);
-  return g_.abd_origin + Eigen::Vector3d(x, g_.l_abd * c0 - z * s0, g_.l_abd * s0 + z * c0);
+  a.z = g_.h_abd - g_.l_thigh * a.c1 - g_.l_shank * a.c12;
+  return a;
 }
 
-Eigen::Matrix3d LegKinematics::jacobian(const Eigen::Vector3d& qj) const noexcept {
-  const Eigen::Vector3d q = qj.cwiseProduct(g_.sign);
-  const double p1 = q[1] + g_.a_thigh, p12 = q[1] + q[2] + g_.a_shank;
-  const double s1 = std::sin(p1), c1 = std::cos(p1), s12 = std::sin(p12), c12 = std::cos(p12);
-  const double z = g_.h_abd - g_.l_thigh * c1 - g_.l_shank * c12;
-  const double dx_dq1 = -g_.l_thigh * c1 - g_.l_shank * c12, dx_dq2 = -g_.l_shank * c12;
-  const double dz_dq1 = g_.l_thigh * s1 + g_.l_shank * s12, dz_dq2 = g_.l_shank * s12;
-  const double s0 = std::sin(q[0]), c0 = std::cos(q[0]);
+Eigen::Vector3d LegKinematics::foot_from(const Angles& a) const noexcept {
+  const double x = -g_.l_thigh * a.s1 - g_.l_shank * a.s12;
+  return g_.abd_origin + Eigen::Vector3d(x, g_.l_abd * a.c0 - a.z * a.s0, g_.l_abd * a.s0 + a.z * a.c0);
+}
+
+Eigen::Matrix3d LegKinematics::jacobian_from(const Angles& a) const noexcept {
+  const double dx_dq1 = -g_.l_thigh * a.c1 - g_.l_shank * a.c12, dx_dq2 = -g_.l_shank * a.c12;
+  const double dz_dq1 = g_.l_thigh * a.s1 + g_.l_shank * a.s12, dz_dq2 = g_.l_shank * a.s12;
   Eigen::Matrix3d J;
   J(0, 0) = 0.0;
-  J(1, 0) = -g_.l_abd * s0 - z * c0;
-  J(2, 0) = g_.l_abd * c0 - z * s0;
+  J(1, 0) = -g_.l_abd * a.s0 - a.z * a.c0;
+  J(2, 0) = g_.l_abd * a.c0 - a.z * a.s0;
   J(0, 1) = dx_dq1;
-  J(1, 1) = -dz_dq1 * s0;
-  J(2, 1) = dz_dq1 * c0;
+  J(1, 1) = -dz_dq1 * a.s0;
+  J(2, 1) = dz_dq1 * a.c0;
   J(0, 2) = dx_dq2;
-  J(1, 2) = -dz_dq2 * s0;
-  J(2, 2) = dz_dq2 * c0;
+  J(1, 2) = -dz_dq2 * a.s0;
+  J(2, 2) = dz_dq2 * a.c0;
   return J * g_.sign.asDiagonal();
 }
 
-void LegKinematics::foot_and_jacobian(const Eigen::Vector3d& qj, Eigen::Vector3d* foot,
+Eigen::Vector3d LegKinematics::foot_position(const Eigen::Vector3d& q) const noexcept {
+  return foot_from(angles(q));
+}
+
+Eigen::Matrix3d LegKinematics::jacobian(const Eigen::Vector3d& q) const noexcept {
+  return jacobian_from(angles(q));
+}
+
+void LegKinematics::foot_and_jacobian(const Eigen::Vector3d& q, Eigen::Vector3d* foot,
                                       Eigen::Matrix3d* jacobian) const noexcept {
-  // foot_position and jacobian above, term for term, on one set of sines and cosines.
-  const Eigen::Vector3d q = qj.cwiseProduct(g_.sign);
-  const double p1 = q[1] + g_.a_thigh, p12 = q[1] + q[2] + g_.a_shank;
-  const double s1 = std::sin(p1), c1 = std::cos(p1), s12 = std::sin(p12), c12 = std::cos(p12);
-  const double s0 = std::sin(q[0]), c0 = std::cos(q[0]);
-  const double x = -g_.l_thigh * s1 - g_.l_shank * s12;
-  const double z = g_.h_abd - g_.l_thigh * c1 - g_.l_shank * c12;
-  *foot = g_.abd_origin + Eigen::Vector3d(x, g_.l_abd * c0 - z * s0, g_.l_abd * s0 + z * c0);
-  const double dx_dq1 = -g_.l_thigh * c1 - g_.l_shank * c12, dx_dq2 = -g_.l_shank * c12;
-  const double dz_dq1 = g_.l_thigh * s1 + g_.l_shank * s12, dz_dq2 = g_.l_shank * s12;
-  Eigen::Matrix3d J;
-  J(0, 0) = 0.0;
-  J(1, 0) = -g_.l_abd * s0 - z * c0;
-  J(2, 0) = g_.l_abd * c0 - z * s0;
-  J(0, 1) = dx_dq1;
-  J(1, 1) = -dz_dq1 * s0;
-  J(2, 1) = dz_dq1 * c0;
-  J(0, 2) = dx_dq2;
-  J(1, 2) = -dz_dq2 * s0;
-  J(2, 2) = dz_dq2 * c0;
-  *jacobian = J * g_.sign.asDiagonal();
+  const Angles a = angles(q);
+  *foot = foot_from(a);
+  *jacobian = jacobian_from(a);
 }
 
 Status LegKinematics::inverse(const Eigen::Vector3d& foot, Eigen::Vector3d& q) const noexcept {

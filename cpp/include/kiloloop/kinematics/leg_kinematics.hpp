@@ -54,8 +54,8 @@ class LegKinematics {
 
   Eigen::Vector3d foot_position(const Eigen::Vector3d& q) const noexcept;  // trunk frame
   Eigen::Matrix3d jacobian(const Eigen::Vector3d& q) const noexcept;       // d foot / d q
-  // Both at once, equal to the two calls bit for bit: they share the joint angles' sines and
-  // cosines (the controller needs both for every leg every tick; three sin/cos pairs per call).
+  // Both at once, equal to the two calls bit for bit: one set of the joint angles' sines and
+  // cosines (the controller needs both for every leg every tick; three sin/cos pairs a set).
   void foot_and_jacobian(const Eigen::Vector3d& q, Eigen::Vector3d* foot,
                          Eigen::Matrix3d* jacobian) const noexcept;
 
@@ -64,6 +64,14 @@ class LegKinematics {
   Status inverse(const Eigen::Vector3d& foot, Eigen::Vector3d& q) const noexcept;
 
  private:
+  struct Angles {  // of the abduction (0), the thigh (1) and thigh + shank (12) in the leg plane
+    double s0, c0, s1, c1, s12, c12;
+    double z;  // [m] the foot below the abduction axis in the leg plane
+  };
+  Angles angles(const Eigen::Vector3d& q) const noexcept;
+  Eigen::Vector3d foot_from(const Angles& a) const noexcept;
+  Eigen::Matrix3d jacobian_from(const Angles& a) const noexcept;
+
   LegGeometry g_;
 };
 
