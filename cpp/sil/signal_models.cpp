@@ -29,8 +29,10 @@ bool SensorModel::configure(const SensorModelConfig& config, int n, std::string*
   quantum_ = config.quantum.empty() ? std::vector<double>(n, 0.0) : config.quantum;
   noisy_ = false;
   for (double s : sigma_) noisy_ = noisy_ || s > 0.0;
-  quantized_ = false;
-  for (double q : quantum_) quantized_ = quantized_ || q > 0.0;
+  quantized_index_.clear();
+  for (int i = 0; i < n; ++i)
+    if (quantum_[i] > 0.0) quantized_index_.push_back(i);
+  quantized_ = !quantized_index_.empty();
   rng_.reseed(config.seed);
   return true;
 }
@@ -40,15 +42,14 @@ void SensorModel::apply(const double* x, double* y) noexcept {
     std::copy(x, x + n_, y);
     return;
   }
-  for (int i = 0; i < n_; ++i) {
-    double v = x[i];
-    // A zero sigma still draws its sample: the stream of every element does not depend on
-    // which others are noisy.
-    if (noisy_) v += sigma_[i] * rng_.normal();
-    // nearbyint in the default rounding mode rounds half to even, as numpy.round does.
-    if (quantum_[i] > 0.0) v = quantum_[i] * std::nearbyint(v / quantum_[i]);
-    y[i] = v;
-  }
+  // A zero sigma still draws its sample: the stream of every element does not depend on which
+  // others are noisy.
+  if (noisy_)
+    for (int i = 0; i < n_; ++i) y[i] = x[i] + sigma_[i] * rng_.normal();
+  else
+    std::copy(x, x + n_, y);
+  // nearbyint in the default rounding mode rounds half to even, as numpy.round does.
+  for (int i : quantized_index_) y[i] = quantum_[i] * std::nearbyint(y[i] / quantum_[i]);
 }
 
 void MeasurementDelay::configure(int n, int ticks) {

@@ -31,7 +31,8 @@ class SensorModel {
   int n_ = 0;
   std::vector<double> sigma_, quantum_;
   bool noisy_ = false;
-  bool quantized_ = false;  // any quantum > 0
+  bool quantized_ = false;            // any quantum > 0
+  std::vector<int> quantized_index_;  // the elements whose quantum > 0
   Rng rng_;
 };
 

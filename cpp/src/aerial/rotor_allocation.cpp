@@ -141,8 +141,13 @@ Status RotorAllocation::allocate(const Eigen::Vector4d& wrench, Eigen::Ref<Eigen
   const int t = row_T_;
   Status status = Status::kOk;
   // Unsaturated: f = P [0, 0,] T, tau (the lateral rows, when used, are held at zero).
-  f_.noalias() = u_ * wrench[0];
-  for (int k = 0; k < 3; ++k) f_.noalias() += P_.col(t + 1 + k) * wrench[1 + k];
+  // Element by element as Eigen's vector sums took them (u T, then + P_k tau_k for k in order),
+  // without their dynamic-size setup on a vector of a few rotors.
+  for (int i = 0; i < n_; ++i) {
+    double f = u_[i] * wrench[0];
+    for (int k = 0; k < 3; ++k) f += P_(i, t + 1 + k) * wrench[1 + k];
+    f_[i] = f;
+  }
   bool fits = true;
   for (int i = 0; i < n_; ++i) fits = fits && f_[i] >= lo && f_[i] <= hi_[i];
   if (!fits) {
