@@ -12,7 +12,7 @@ import kiloloop as kl
 from kiloloop import scenarios
 from kiloloop.robot.foot_geometry import foot_depth
 
-from quadruped_robots import erd_share
+from kiloloop.bench.quadruped_robots import robot_file
 
 
 def _urdf(tmp_path: Path, collisions: str, ankle_rpy: str = "0 0 0") -> Path:
@@ -78,13 +78,9 @@ def test_no_collision_is_a_point_foot(tmp_path):
 
 
 def test_go2s_mesh_foot_stands_at_the_derived_height(tmp_path):
-    share = erd_share()
-    if share is None:
+    path = robot_file("go2", tmp_path)
+    if path is None:
         pytest.skip("example-robot-data not installed")
-    urdf = share / "example-robot-data" / "robots" / "go2_description" / "urdf" / "go2.urdf"
-    path = tmp_path / "go2.toml"
-    path.write_text(f'name = "go2"\nkind = "quadruped"\nurdf = "{urdf}"\npackage_dirs = ["{share}"]\n'
-                    '[legs]\nbase = "base"\nfeet = ["FL_foot", "FR_foot", "RL_foot", "RR_foot"]\n')
     robot = kl.Robot.load(path)
     # Before: 0 (a mesh was not read), and Go2 stood 23 mm above the height it derived.
     from kiloloop.robot.quadruped import controller_config

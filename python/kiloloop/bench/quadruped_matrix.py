@@ -13,6 +13,8 @@ import tempfile
 import time
 from pathlib import Path
 
+from .quadruped_robots import robot_file
+
 ROWS = [  # (scenario, extra --set for the 35 ms column too)
     ("quadruped-stand", {}),
     ("quadruped-trot", {}),
@@ -30,23 +32,10 @@ ROWS = [  # (scenario, extra --set for the 35 ms column too)
 DELAYS = (0.010, 0.035)
 
 
-def erd_share() -> Path | None:
-    for base in map(Path, sys.path):
-        p = base / "cmeel.prefix" / "share"
-        if (p / "example-robot-data" / "robots").is_dir():
-            return p
-    return None
-
-
 def go1_file(directory: Path) -> Path | None:
-    share = erd_share()
-    if share is None:
-        return None
-    urdf = share / "example-robot-data" / "robots" / "go1_description" / "urdf" / "go1.urdf"
-    path = directory / "go1.toml"
-    path.write_text(f'name = "go1"\nkind = "quadruped"\nurdf = "{urdf}"\npackage_dirs = ["{share}"]\n'
-                    '[legs]\nbase = "trunk"\nfeet = ["FL_foot", "FR_foot", "RL_foot", "RR_foot"]\n')
-    return path
+    """Go1's minimal robot file in directory (quadruped_robots.py), or None without
+    example-robot-data."""
+    return robot_file("go1", directory)
 
 
 def _headline(name: str, m: dict) -> str:

@@ -12,7 +12,6 @@ import tempfile
 import time
 from pathlib import Path
 
-from .quadruped_matrix import erd_share
 
 # name: (URDF under example-robot-data/robots, base link, feet FL FR RL RR), the URDFs' own names.
 ROBOTS = {
@@ -31,6 +30,15 @@ ROBOTS = {
     "hyq": ("hyq_description/robots/hyq_no_sensors.urdf", "trunk",
             ("lf_foot", "rf_foot", "lh_foot", "rh_foot")),
 }
+def erd_share() -> Path | None:
+    """The directory holding example-robot-data's robots (its wheel's cmeel prefix), or None."""
+    for base in map(Path, sys.path):
+        p = base / "cmeel.prefix" / "share"
+        if (p / "example-robot-data" / "robots").is_dir():
+            return p
+    return None
+
+
 SCENARIOS = ("quadruped-stand", "quadruped-trot", "quadruped-push", "quadruped-slope",
              "quadruped-tilt-stop")
 
