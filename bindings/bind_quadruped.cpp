@@ -78,6 +78,7 @@ void bind_quadruped(py::module_& m) {
       .def_readwrite("safe_time_constant", &QuadrupedConfig::safe_time_constant)
       .def_readwrite("dt", &QuadrupedConfig::dt)
       .def_readwrite("foot_radius", &QuadrupedConfig::foot_radius)
+      .def_readwrite("foot_offset", &QuadrupedConfig::foot_offset)
       .def_readwrite("body_height", &QuadrupedConfig::body_height)
       .def_readwrite("gait", &QuadrupedConfig::gait)
       .def_readwrite("contact", &QuadrupedConfig::contact)

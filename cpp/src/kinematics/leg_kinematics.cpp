@@ -20,11 +20,19 @@ double axis_sign(const Eigen::Vector3d& a, const Eigen::Vector3d& e) {
   return 0.0;
 }
 
+// [m] the foot point `offset` (foot link frame) in the frame T maps from. A zero offset is the
+// link origin itself, T.p unchanged (no +-0 sums: robots without an offset keep their exact
+// numbers).
+Eigen::Vector3d foot_point(const KDL::Frame& T, const Eigen::Vector3d& offset) {
+  if ((offset.array() == 0.0).all()) return to_eigen(T.p);
+  return to_eigen(T * KDL::Vector(offset.x(), offset.y(), offset.z()));
+}
+
 }  // namespace
 
 Status leg_geometry_from_model(const RobotModel& model, const std::string& trunk,
                                const std::string& foot, LegGeometry* out, std::string* why,
-                               KneeDirection knee) {
+                               KneeDirection knee, const Eigen::Vector3d& foot_offset) {
   auto fail = [&](const std::string& msg) {
     if (why) *why = "leg '" + foot + "': " + msg;
     return Status::kModelError;
@@ -48,7 +56,14 @@ Status leg_geometry_from_model(const RobotModel& model, const std::string& trunk
     T = T * seg.pose(0.0);
   }
   if (j != 3) return fail("expected 3 joints, found " + std::to_string(j));
-  const Eigen::Vector3d tip = to_eigen(T.p);
+  // The offset is a point on the shank, near the foot: finite, and shorter than the shank
+  // (anything longer is a unit or frame mistake, e.g. millimetres or the trunk frame).
+  const double shank = (to_eigen(T.p) - points[2]).norm();
+  if (!foot_offset.allFinite() || !(foot_offset.norm() < shank))
+    return fail("foot_offset (" + std::to_string(foot_offset.norm()) + " m) must be finite and "
+                "shorter than the shank (" + std::to_string(shank) + " m, knee axis -> foot link "
+                "origin): the contact sphere's centre in the foot link's frame [m]");
+  const Eigen::Vector3d tip = foot_point(T, foot_offset);
   const Eigen::Vector3d ex = Eigen::Vector3d::UnitX(), ey = Eigen::Vector3d::UnitY();
   LegGeometry g;
   g.sign = Eigen::Vector3d(axis_sign(axes[0], ex), axis_sign(axes[1], ey), axis_sign(axes[2], ey));
@@ -91,7 +106,7 @@ Status leg_geometry_from_model(const RobotModel& model, const std::string& trunk
     for (int k = 0; k < 3; ++k) qk(k) = p[k];
     KDL::Frame Tq;
     fk.JntToCart(qk, Tq);
-    if ((leg.foot_position(Eigen::Vector3d(p[0], p[1], p[2])) - to_eigen(Tq.p)).norm() > kFkTol)
+    if ((leg.foot_position(Eigen::Vector3d(p[0], p[1], p[2])) - foot_point(Tq, foot_offset)).norm() > kFkTol)
       return fail("layout not supported: the abduction / pitch / knee closed form does not match "
                   "the URDF's kinematics (a pitch or knee axis not parallel to the hip pitch axis?)");
   }

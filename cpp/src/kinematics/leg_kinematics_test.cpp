@@ -1,5 +1,6 @@
 #include "kiloloop/kinematics/leg_kinematics.hpp"
 
+#include <cmath>
 #include <random>
 
 #include <gtest/gtest.h>
@@ -151,6 +152,78 @@ TEST(LegKinematics, AnyAbductionPitchKneeLayout) {
     }
   }
   EXPECT_GT(round_trips, 250);
+}
+
+// A foot point off the foot link's origin (ANYmal's contact sphere sits 23 mm up the shank; here
+// also off to the side and forward, on the odd leg): the closed form tracks that point, equal to
+// KDL's FK of the foot frame applied to the offset, and IK round-trips through it.
+TEST(LegKinematics, FootOffsetIsTrackedAsTheFootPoint) {
+  RobotModel model;
+  std::string why;
+  ASSERT_EQ(model_from_urdf_string(kOddLeg, "", "", &model, &why), Status::kOk) << why;
+  const Eigen::Vector3d offset(0.004, -0.006, 0.023);  // [m] foot link frame
+  LegGeometry g, g0;
+  ASSERT_EQ(leg_geometry_from_model(model, "trunk", "foot", &g, &why, KneeDirection::kAuto, offset),
+            Status::kOk) << why;
+  ASSERT_EQ(leg_geometry_from_model(model, "trunk", "foot", &g0, &why), Status::kOk) << why;
+  EXPECT_NEAR(g.l_abd, g0.l_abd + offset.y(), 1e-12);  // the foot frame is not turned here
+  EXPECT_LT(g.l_shank, g0.l_shank);                    // the point is up the shank
+  const LegKinematics leg(g);
+  KDL::Chain chain;
+  ASSERT_TRUE(model.tree().getChain("trunk", "foot", chain));
+  KDL::ChainFkSolverPos_recursive fk(chain);
+  KDL::JntArray qk(3);
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  int round_trips = 0;
+  for (int k = 0; k < 200; ++k) {
+    const Eigen::Vector3d q(0.5 * u(rng), 0.6 * u(rng), -1.3 + 1.1 * u(rng));
+    for (int j = 0; j < 3; ++j) qk(j) = q[j];
+    KDL::Frame T;
+    fk.JntToCart(qk, T);
+    const KDL::Vector expected = T * KDL::Vector(offset.x(), offset.y(), offset.z());
+    const Eigen::Vector3d p = leg.foot_position(q);
+    ASSERT_LT((p - Eigen::Vector3d(expected.x(), expected.y(), expected.z())).norm(), 1e-12) << q.transpose();
+    Eigen::Vector3d sol = Eigen::Vector3d::Zero();
+    if (leg.inverse(p, sol) == Status::kOk) {
+      EXPECT_LT((sol - q).norm(), 1e-9) << q.transpose();
+      ++round_trips;
+    }
+  }
+  EXPECT_GT(round_trips, 150);
+}
+
+// A zero offset is the link origin exactly: the same geometry, bit for bit, as without one.
+TEST(LegKinematics, ZeroFootOffsetLeavesTheGeometryUnchanged) {
+  const RobotModel model = *testing::load_quadruped();
+  for (const char* foot : kFeet) {
+    LegGeometry a, b;
+    std::string why;
+    ASSERT_EQ(leg_geometry_from_model(model, "trunk", foot, &a, &why), Status::kOk) << why;
+    ASSERT_EQ(leg_geometry_from_model(model, "trunk", foot, &b, &why, KneeDirection::kAuto,
+                                      Eigen::Vector3d::Zero()), Status::kOk) << why;
+    EXPECT_EQ(a.abd_origin, b.abd_origin);
+    EXPECT_EQ(a.l_abd, b.l_abd);
+    EXPECT_EQ(a.h_abd, b.h_abd);
+    EXPECT_EQ(a.l_thigh, b.l_thigh);
+    EXPECT_EQ(a.l_shank, b.l_shank);
+    EXPECT_EQ(a.a_thigh, b.a_thigh);
+    EXPECT_EQ(a.a_shank, b.a_shank);
+  }
+}
+
+// An offset as long as the shank (a unit or frame mistake) or not finite is refused, named.
+TEST(LegKinematics, RejectsAFootOffsetBeyondTheShank) {
+  const RobotModel model = *testing::load_quadruped();
+  LegGeometry g;
+  std::string why;
+  EXPECT_EQ(leg_geometry_from_model(model, "trunk", "FL_foot", &g, &why, KneeDirection::kAuto,
+                                    Eigen::Vector3d(0, 0, 0.25)), Status::kModelError);
+  EXPECT_NE(why.find("foot_offset"), std::string::npos) << why;
+  why.clear();
+  EXPECT_EQ(leg_geometry_from_model(model, "trunk", "FL_foot", &g, &why, KneeDirection::kAuto,
+                                    Eigen::Vector3d(0, std::nan(""), 0)), Status::kModelError);
+  EXPECT_NE(why.find("foot_offset"), std::string::npos) << why;
 }
 
 TEST(LegKinematics, RejectsAnArmChain) {

@@ -92,6 +92,8 @@ Status validate(const QuadrupedConfig& c, std::string* why) {
       !(c.kd_velocity.array() >= 0).all() || !(c.kp_orientation.array() >= 0).all() ||
       !(c.kd_angular.array() >= 0).all())
     return fail("trunk gains must be finite and >= 0");
+  // Its length is checked against each shank at configure (leg_geometry_from_model).
+  if (!c.foot_offset.allFinite()) return fail("foot_offset must be finite [m, foot link frame]");
   EstimatorConfig est = c.estimator;
   est.dt = c.dt;  // the controller's period is the estimator's
   if (const Status s = validate(est, why); failed(s)) {
@@ -117,7 +119,8 @@ Status QuadrupedController::configure(const QuadrupedConfig& config, RobotModelP
   c.model_ = model;
   for (int i = 0; i < kLegs; ++i) {
     LegGeometry g;
-    Status s = leg_geometry_from_model(*model, config.trunk_link, config.feet[i], &g, why, config.knees[i]);
+    Status s = leg_geometry_from_model(*model, config.trunk_link, config.feet[i], &g, why,
+                                       config.knees[i], config.foot_offset);
     if (failed(s)) return s;
     c.legs_[i] = LegKinematics(g);
     cfg.knees[i] = g.knee;

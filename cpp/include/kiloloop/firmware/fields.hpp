@@ -61,6 +61,7 @@ void visit_fields(QuadrupedConfig& c, V&& v) {
   v("knees[3]", c.knees[3]);
   v("dt", c.dt);
   v("foot_radius", c.foot_radius);
+  v("foot_offset", c.foot_offset);
   v("body_height", c.body_height);
   v("stand_extension", c.stand_extension);
   v("crouch_extension", c.crouch_extension);

@@ -29,7 +29,7 @@ struct LegGeometry {
   double l_abd = 0.0;     // [m] signed lateral offset abduction axis -> leg plane (+ left)
   double h_abd = 0.0;     // [m] offset abduction axis -> pitch axis along the abduction frame's z
   double l_thigh = 0.0;   // [m] hip pitch axis -> knee axis, in the leg plane
-  double l_shank = 0.0;   // [m] knee axis -> foot point, in the leg plane
+  double l_shank = 0.0;   // [m] knee axis -> foot point (the foot sphere's centre), in the leg plane
   double a_thigh = 0.0;   // [rad] thigh angle from straight down at q = 0 (+ = foot towards -x)
   double a_shank = 0.0;   // [rad] shank angle from straight down at q = 0
   Eigen::Vector3d sign = Eigen::Vector3d::Ones();  // +1 / -1: joint axis along +x,+y / -x,-y
@@ -41,10 +41,15 @@ struct LegGeometry {
 
 // Reads the geometry of the chain trunk -> foot; fails with the reason when the chain is not
 // abduction(+-x) - pitch(+-y) - knee(+-y), or when the closed form does not reproduce KDL's
-// forward kinematics. `knee` picks the bend (kAuto: from the knee limits).
+// forward kinematics. `knee` picks the bend (kAuto: from the knee limits). The foot point is
+// `foot_offset` [m] in the foot link's frame (the contact sphere's centre: ANYmal's sits 23 mm
+// up the shank from the link origin); it moves rigidly with the shank, so the closed form holds
+// with l_shank, a_shank and l_abd measured to it. It must be finite and shorter than the shank
+// (knee axis -> foot link origin).
 Status leg_geometry_from_model(const RobotModel& model, const std::string& trunk,
                                const std::string& foot, LegGeometry* out, std::string* why,
-                               KneeDirection knee = KneeDirection::kAuto);
+                               KneeDirection knee = KneeDirection::kAuto,
+                               const Eigen::Vector3d& foot_offset = Eigen::Vector3d::Zero());
 
 class LegKinematics {
  public:

@@ -49,6 +49,11 @@ struct QuadrupedConfig {
                                      KneeDirection::kAuto, KneeDirection::kAuto};
   double dt = 0.001;                  // [s] control period
   double foot_radius = 0.0;           // [m] foot sphere radius (contact point below its centre)
+  // [m] the foot sphere's centre in the foot link's frame: the point the leg kinematics, the
+  // estimator and the footholds track. Zero: the link origin (Unitree, our model). ANYmal's
+  // sphere sits 0.023 m up the shank: taken as the origin, the feet of the more bent legs stood
+  // that much higher on their spheres and the robot dropped. Finite, shorter than the shank.
+  Eigen::Vector3d foot_offset = Eigen::Vector3d::Zero();
   // [m] trunk origin above the ground, along world z. 0: derived so that each foot stands
   // stand_extension of the leg's length straight below its hip pitch axis.
   double body_height = 0.0;
