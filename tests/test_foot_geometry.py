@@ -2,7 +2,8 @@
 how far it reaches below the link's origin along the trunk's down direction, for the placements
 real descriptions use (sphere about the origin, offset sphere, mesh, shank cylinder beside the
 sphere, a foot frame turned by the fixed joints), and on example-robot-data's Go2, whose foot is a
-mesh: it stands at the derived height."""
+mesh: it stands at the derived height. foot_contact: the contact sphere itself (centre in the
+foot link's frame and radius) when the lowest geometry is a sphere, else one about the origin."""
 from pathlib import Path
 
 import numpy as np
@@ -10,7 +11,7 @@ import pytest
 
 import kiloloop as kl
 from kiloloop import scenarios
-from kiloloop.robot.foot_geometry import foot_depth
+from kiloloop.robot.foot_geometry import foot_contact, foot_depth
 
 from kiloloop.bench.quadruped_robots import robot_file
 
@@ -71,6 +72,45 @@ def test_a_mesh_reaches_its_lowest_vertex(tmp_path):
     path = _urdf(tmp_path, _collision('<mesh filename="foot.stl" scale="1 1 1"/>'))
     assert foot_depth(path, "foot", "trunk") == pytest.approx(lowest, abs=1e-9)
     assert 0.0115 < lowest < 0.0121
+
+
+def test_contact_of_an_offset_sphere_is_its_centre_and_radius(tmp_path):
+    # ANYmal C's foot link: the shank cylinder above, the contact sphere 22.5 mm up the shank.
+    both = (_collision('<cylinder radius="0.0175" length="0.2825"/>', xyz="0 0 0.169") +
+            _collision('<sphere radius="0.03"/>', xyz="0.001 -0.002 0.0225", rpy="0.3 0 0"))
+    offset, radius = foot_contact(_urdf(tmp_path, both), "foot", "trunk")
+    np.testing.assert_array_equal(offset, [0.001, -0.002, 0.0225])
+    assert radius == 0.03
+
+
+def test_contact_of_a_sphere_about_the_origin_is_exactly_its_depth(tmp_path):
+    path = _urdf(tmp_path, _collision('<sphere radius="0.0213"/>'))
+    offset, radius = foot_contact(path, "foot", "trunk")
+    assert offset.shape == (3,) and not offset.any()
+    assert radius == foot_depth(path, "foot", "trunk") == 0.0213
+
+
+def test_contact_of_a_mesh_or_no_geometry_is_about_the_origin(tmp_path):
+    trimesh = pytest.importorskip("trimesh")
+    sphere = trimesh.creation.icosphere(subdivisions=3, radius=0.016)
+    sphere.apply_translation([0.0, 0.0, 0.004])  # a mesh sphere off the origin: still offset 0
+    sphere.export(tmp_path / "foot.stl")
+    path = _urdf(tmp_path, _collision('<mesh filename="foot.stl" scale="1 1 1"/>'))
+    offset, radius = foot_contact(path, "foot", "trunk")
+    assert not offset.any()
+    assert radius == foot_depth(path, "foot", "trunk") == pytest.approx(-sphere.vertices[:, 2].min(), abs=1e-9)
+    offset, radius = foot_contact(_urdf(tmp_path, ""), "foot", "trunk")
+    assert not offset.any() and radius == 0.0
+
+
+def test_anymal_b_gets_its_offset_sphere(tmp_path):
+    path = robot_file("anymal_b", tmp_path)
+    if path is None:
+        pytest.skip("example-robot-data not installed")
+    from kiloloop.robot.quadruped import controller_config
+    config = controller_config(kl.Robot.load(path))
+    assert config.foot_radius == pytest.approx(0.031, abs=1e-6)
+    np.testing.assert_allclose(config.foot_offset, [0.0, 0.0, 0.02325], atol=1e-6)
 
 
 def test_no_collision_is_a_point_foot(tmp_path):

@@ -1,6 +1,5 @@
-"""How far a foot's collision geometry reaches below its link's origin: the quadruped controller's
-foot radius (it models each foot as a sphere about the foot link's origin, touching the ground
-`foot_radius` below it).
+"""Where a foot touches the ground, from its link's collision geometry: the quadruped controller
+models each foot as a sphere, `foot_radius` about a centre `foot_offset` in the foot link's frame.
 
 Real descriptions place the contact geometry in several ways, all measured here along the trunk's
 down direction with every joint at zero (legs hanging, the foot frame as the URDF draws it):
@@ -10,6 +9,11 @@ vertex), a shank cylinder listed on the foot link beside the sphere (ANYmal C: t
 reaches lowest), boxes and cylinders (their support point).
 
     depth = foot_depth(urdf_path, "FL_foot", "trunk", package_dirs)   # [m], 0: a point foot
+    offset, radius = foot_contact(urdf_path, "FL_foot", "trunk", package_dirs)
+
+foot_contact gives the sphere itself (its centre and radius) when the lowest geometry is a sphere:
+the centre moves with the shank, so an offset sphere on a bent leg reaches lower than on a straight
+one, which a radius about the origin cannot say. Anything else: offset 0 and radius foot_depth.
 """
 from __future__ import annotations
 
@@ -59,14 +63,14 @@ def _support(geom, R: np.ndarray, d: np.ndarray, urdf_dir: Path, package_dirs) -
     return float("nan")
 
 
-def foot_depth(urdf_path, foot: str, base: str, package_dirs: Iterable[str | Path] = ()) -> float:
-    """[m] the lowest reach of the foot link's collision geometry below its origin, along the
-    base's down direction at the zero pose; 0 when the link has no collision geometry (a point
-    foot) or it lies wholly above the origin."""
+def _lowest(urdf_path, foot: str, base: str, package_dirs) -> tuple[float, object, np.ndarray]:
+    """The foot link's collision geometry reaching lowest below its origin along the base's down
+    at the zero pose: (its reach [m], the geometry element, its origin in the link frame (4x4)),
+    or (0, None, None) when none reaches below the origin or the link has none."""
     path = Path(urdf_path)
     root = ET.parse(path).getroot()
     d = _down_in_link(root, foot, base)
-    deepest = 0.0
+    deepest, lowest, origin = 0.0, None, None
     for link in root.findall("link"):
         if link.get("name") != foot:
             continue
@@ -77,6 +81,26 @@ def foot_depth(urdf_path, foot: str, base: str, package_dirs: Iterable[str | Pat
             T = _origin(col.find("origin"))
             reach = float(np.dot(T[:3, 3], d)) + _support(geom, T[:3, :3], d, path.parent,
                                                           list(package_dirs))
-            if math.isfinite(reach):
-                deepest = max(deepest, reach)
-    return deepest
+            if math.isfinite(reach) and reach > deepest:
+                deepest, lowest, origin = reach, geom, T
+    return deepest, lowest, origin
+
+
+def foot_depth(urdf_path, foot: str, base: str, package_dirs: Iterable[str | Path] = ()) -> float:
+    """[m] the lowest reach of the foot link's collision geometry below its origin, along the
+    base's down direction at the zero pose; 0 when the link has no collision geometry (a point
+    foot) or it lies wholly above the origin."""
+    return _lowest(urdf_path, foot, base, package_dirs)[0]
+
+
+def foot_contact(urdf_path, foot: str, base: str,
+                 package_dirs: Iterable[str | Path] = ()) -> tuple[np.ndarray, float]:
+    """The foot's contact sphere: (its centre in the foot link's frame [m] (3,), its radius [m]).
+    When the geometry reaching lowest (foot_depth's) is a sphere: that sphere (a centre at the
+    origin gives exactly (0, 0, 0), its radius foot_depth's); otherwise (mesh, box, cylinder, no
+    geometry) a sphere about the origin, radius foot_depth."""
+    depth, geom, T = _lowest(urdf_path, foot, base, package_dirs)
+    if geom is None or geom.tag != "sphere":
+        return np.zeros(3), depth
+    centre = np.asarray(T[:3, 3], dtype=float)
+    return (np.zeros(3) if not centre.any() else centre.copy()), float(geom.get("radius"))

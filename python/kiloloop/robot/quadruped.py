@@ -2,9 +2,9 @@
 
 The controller derives the rest itself at configure (stand height and pose, composite inertia,
 gains and thresholds from masses, inertias, effort limits and the actuation delay; see
-QuadrupedConfig); this module adds what needs the URDF's collision geometry (foot radius), maps
-the file's [legs] and [controller] tables onto kl.QuadrupedConfig, and gives the plant its start
-pose. `kiloloop robot check FILE` prints `summary`.
+QuadrupedConfig); this module adds what needs the URDF's collision geometry (the foot sphere's
+radius and centre), maps the file's [legs] and [controller] tables onto kl.QuadrupedConfig, and
+gives the plant its start pose. `kiloloop robot check FILE` prints `summary`.
 """
 from __future__ import annotations
 
@@ -12,7 +12,7 @@ import xml.etree.ElementTree as ET
 
 import numpy as np
 
-from .foot_geometry import foot_depth
+from .foot_geometry import foot_contact as _foot_contact
 
 # Nested config structs of kl.QuadrupedConfig (robot-file tables [controller.gait] ...).
 _NESTED = ("gait", "contact", "estimator", "force")
@@ -35,20 +35,21 @@ def controller_schema() -> dict:
     return out
 
 
-def foot_radius(robot) -> float:
-    """[m] how far the first foot's collision geometry reaches below the foot link's origin
-    (robot/foot_geometry.py: a sphere about the origin gives its radius; offset spheres, meshes,
-    cylinders and boxes their lowest point); 0 for a point foot."""
+def foot_contact(robot) -> tuple[np.ndarray, float]:
+    """The first foot's contact sphere, (centre in the foot link's frame [m] (3,), radius [m])
+    (robot/foot_geometry.py: a sphere reaching lowest gives itself, offset or not; meshes,
+    cylinders and boxes a sphere about the origin down to their lowest point); a point foot at
+    the origin when [legs] names no feet."""
     legs = robot.section("legs")
     feet = legs.get("feet") or []
     if not feet:
-        return 0.0
+        return np.zeros(3), 0.0
     base = legs.get("base")
     if not base:  # the URDF's root link
         root = ET.fromstring(robot.urdf_text())
         children = {j.find("child").get("link") for j in root.findall("joint") if j.find("child") is not None}
         base = next((l.get("name") for l in root.findall("link") if l.get("name") not in children), "")
-    return foot_depth(robot.urdf, feet[0], base, robot.package_dirs)
+    return _foot_contact(robot.urdf, feet[0], base, robot.package_dirs)
 
 
 def _assign(obj, key: str, value, where: str) -> None:
@@ -73,8 +74,9 @@ def _assign(obj, key: str, value, where: str) -> None:
 
 
 def controller_config(robot, actuation_delay: float | None = None):
-    """kl.QuadrupedConfig for the robot: trunk and feet from [legs], the foot radius from the
-    URDF, the declared actuation delay, then the file's [controller] table (which wins)."""
+    """kl.QuadrupedConfig for the robot: trunk and feet from [legs], the foot sphere (centre and
+    radius) from the URDF, the declared actuation delay, then the file's [controller] table
+    (which wins)."""
     from .. import _core
 
     config = _core.QuadrupedConfig()
@@ -86,7 +88,7 @@ def controller_config(robot, actuation_delay: float | None = None):
             raise ValueError(f"{robot.path}: legs.feet: expected 4 links (FL, FR, RL, RR), got "
                              f"{len(legs['feet'])}")
         config.feet = list(legs["feet"])
-    config.foot_radius = foot_radius(robot)
+    config.foot_offset, config.foot_radius = foot_contact(robot)
     if actuation_delay is not None:
         config.actuation_delay = float(actuation_delay)
     for key, value in robot.section("controller").items():
@@ -138,7 +140,8 @@ def summary(robot, model) -> list[str]:
         f"feet {', '.join(plant.feet)} (order checked against the hips)",
         f"  mass {d.mass:.3f} kg; CoM standing {fmt(ctrl.com)} m (trunk frame)",
         f"  composite inertia about the CoM [kg m^2]: diag {fmt(np.diag(inertia))}",
-        f"  stand height {d.body_height:.4f} m; foot radius {d.foot_radius:.4f} m; knees {knees}",
+        f"  stand height {d.body_height:.4f} m; foot radius {d.foot_radius:.4f} m about "
+        f"({fmt(d.foot_offset)}) m in the foot frame; knees {knees}",
         f"  stand pose [rad] {fmt(ctrl.stand_pose)}",
         f"  plant start height {plant.base_pos0[2]:.4f} m",
         f"  swing kp {fmt(d.swing_kp)} N m/rad, kd {fmt(d.swing_kd)} N m s/rad "
