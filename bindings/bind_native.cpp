@@ -277,7 +277,7 @@ void bind_native(py::module_& parent) {
                auto p = item.cast<py::tuple>();
                if (p.size() != 3) throw py::value_error("probes: expected (name, source, index) tuples");
                const int source = p[1].cast<int>();
-               if (source < 0 || source > 11) throw py::value_error("probes: source must be 0..11");
+               if (source < 0 || source > 12) throw py::value_error("probes: source must be 0..12");
                config.probes.push_back(Probe{p[0].cast<std::string>(), static_cast<Probe::Source>(source),
                                              p[2].cast<std::vector<int>>()});
              }

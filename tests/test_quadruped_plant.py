@@ -155,6 +155,20 @@ def test_foot_positions_match_analytic_leg_kinematics(plant):
         np.testing.assert_allclose(plant.joint_q(), q, rtol=0, atol=1e-15)
 
 
+def test_foot_positions_are_the_sphere_centres_at_the_feet_offset():
+    # feet.offset (the controller's foot_offset: ANYmal's sphere sits up the shank): each foot's
+    # reported position is its link origin + R_foot offset.
+    offset = np.array([0.01, -0.005, 0.03])
+    shifted = FloatingBasePlant(URDF, {**OVERLAY, "feet": {**OVERLAY["feet"], "offset": offset}})
+    rng = np.random.default_rng(SEED)
+    for _ in range(5):
+        shifted.reset(rng.uniform(np.tile([-0.8, -1.2, -2.7], 4), np.tile([0.8, 3.0, -0.5], 4)))
+        d, ids = shifted.data, shifted._foot_ids
+        expected = d.xpos[ids] + np.einsum("fij,j->fi", d.xmat[ids].reshape(-1, 3, 3), offset)
+        np.testing.assert_allclose(shifted.foot_positions(), expected, rtol=0, atol=1e-15)
+        assert np.min(np.linalg.norm(shifted.foot_positions() - d.xpos[ids], axis=1)) > 0.03
+
+
 # --- contact and statics ------------------------------------------------------------------------
 
 def test_drop_then_stand_contact_forces_carry_the_weight():

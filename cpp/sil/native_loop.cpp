@@ -32,6 +32,10 @@ int probe_width(const mjModel* m, const Probe& p, std::vector<int>* shape, std::
       *shape = {static_cast<int>(p.index.size()), 3};
       if (!p.index.empty() && in_range(m->nbody)) return 3 * shape->at(0);
       break;
+    case S::kSitesPos:
+      *shape = {static_cast<int>(p.index.size()), 3};
+      if (!p.index.empty() && in_range(m->nsite)) return 3 * shape->at(0);
+      break;
   }
   *why = "probe " + p.name + ": index out of range for this model";
   return -1;
@@ -57,6 +61,7 @@ void probe_sources(const mjData* d, const Probe& p, const ContactForces& contact
     case S::kSubtreeCom: span(d->subtree_com + 3 * i0, 3); break;
     case S::kActuatorForce: for (int i : p.index) out->push_back(d->actuator_force + i); break;
     case S::kBodiesPos: for (int b : p.index) span(d->xpos + 3 * b, 3); break;
+    case S::kSitesPos: for (int s : p.index) span(d->site_xpos + 3 * s, 3); break;
     case S::kContactForce: span(contact.forces().data(), static_cast<int>(contact.forces().size())); break;
   }
 }

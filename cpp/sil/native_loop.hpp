@@ -34,14 +34,15 @@ namespace kiloloop::sil {
 
 // A ground-truth signal logged every tick (never seen by the controller). kBodiesPos and
 // kContactForce take several body ids and log (bodies x 3): their origins [m], and the contact
-// force on each during the last physics step [N] (world; sil/contact_forces.hpp).
+// force on each during the last physics step [N] (world; sil/contact_forces.hpp). kSitesPos:
+// several site ids, their positions (sites x 3) [m] (world; the quadruped's foot sphere centres).
 // kSubtreeCom: {body id}, the centre of mass of the body and its descendants [m] (world);
 // kActuatorForce: actuator ids, their force (gain x activation for a rotor) [N]; kBodyMat:
 // {body id}, its rotation (3 x 3, world <- body).
 struct Probe {
   enum class Source : int { kSensor = 0, kSitePos = 1, kSiteMat = 2, kBodyPos = 3, kBodyQuat = 4,
                             kQpos = 5, kQvel = 6, kBodiesPos = 7, kContactForce = 8,
-                            kSubtreeCom = 9, kActuatorForce = 10, kBodyMat = 11 };
+                            kSubtreeCom = 9, kActuatorForce = 10, kBodyMat = 11, kSitesPos = 12 };
   std::string name;
   Source source = Source::kSensor;
   std::vector<int> index;  // sensordata / qpos / qvel addresses, or {site id} / {body id}

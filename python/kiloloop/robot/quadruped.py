@@ -105,7 +105,8 @@ def controller_config(robot, actuation_delay: float | None = None):
 
 def plant_overlay(robot, controller) -> dict:
     """The plant's [sim] sections with what the robot file leaves out: the joints start in the
-    controller's standing pose (URDF order), the IMU on the base, the feet from [legs]."""
+    controller's standing pose (URDF order), the IMU on the base, the feet from [legs] with the
+    controller's foot sphere centre (the point the plant reports as each foot's position)."""
     from ..sil.plant import urdf_joints
 
     sim = robot.sim
@@ -121,6 +122,8 @@ def plant_overlay(robot, controller) -> dict:
     feet = sim.setdefault("feet", {})
     if not feet.get("bodies") and legs.get("feet"):
         feet["bodies"] = list(legs["feet"])
+    if feet.get("offset") is None:
+        feet["offset"] = [float(x) for x in np.asarray(controller.config.foot_offset)]
     return sim
 
 

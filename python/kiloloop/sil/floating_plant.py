@@ -35,7 +35,10 @@ _DEFAULTS = {
     "base": {"pos0": None, "quat0": [1.0, 0.0, 0.0, 0.0]},
     "actuators": {"type": "motor"},
     "imu": {"body": None, "site": "imu", "pos": [0.0, 0.0, 0.0]},
-    "feet": {"bodies": list(_FEET)},
+    # offset: [m] the foot contact sphere's centre in each foot link's frame (the controller's
+    # foot_offset; ANYmal's sits 23 mm up the shank): where each foot's site sits, the point
+    # foot_positions() reports. Zero: the link origin.
+    "feet": {"bodies": list(_FEET), "offset": [0.0, 0.0, 0.0]},
 }
 _CONES = {"pyramidal": mujoco.mjtCone.mjCONE_PYRAMIDAL,
           "elliptic": mujoco.mjtCone.mjCONE_ELLIPTIC}
@@ -106,6 +109,7 @@ class FloatingBasePlant(FloatingBaseReadout):
         if floor is not None:
             fcfg["enabled"] = floor
         self.feet = tuple(cfg["feet"]["bodies"] if feet is None else feet)
+        foot_offset = _fixed(cfg["feet"]["offset"], (3,), "feet.offset")
         self.slope = np.deg2rad(float(fcfg["slope_deg"]))
         if not np.isfinite(self.slope) or abs(self.slope) >= np.pi / 2:
             raise ValueError(f"slope_deg: expected |slope| < 90, got {fcfg['slope_deg']!r}")
@@ -154,7 +158,7 @@ class FloatingBasePlant(FloatingBaseReadout):
             for k, geom in enumerate(geoms):
                 geom.name = f"{foot}_geom" if len(geoms) == 1 else f"{foot}_geom{k}"
                 geom.friction = [friction, *_SPIN_ROLL]
-            body.add_site(name=f"{foot}_site")
+            body.add_site(name=f"{foot}_site", pos=foot_offset)
 
         if terrain is not None and fcfg["enabled"]:
             terrain.add_to(spec, friction)
@@ -177,6 +181,7 @@ class FloatingBasePlant(FloatingBaseReadout):
         self._index_floating_base()
         m = self.model
         self._foot_ids = np.array([m.body(f).id for f in self.feet])
+        self._foot_sites = np.array([m.site(f"{f}_site").id for f in self.feet])
         # geom id -> foot index (or -1), for the contact bookkeeping
         self._geom_foot = np.full(m.ngeom, -1)
         for k, bid in enumerate(self._foot_ids):
@@ -244,8 +249,9 @@ class FloatingBasePlant(FloatingBaseReadout):
     # --- ground truth (what only the simulator knows; base_pose/base_velocity: mixin) ---------
 
     def foot_positions(self) -> np.ndarray:
-        """Foot link origins (the contact spheres' centres) in the world frame (n_feet, 3) [m]."""
-        return self.data.xpos[self._foot_ids].copy()
+        """The feet's contact sphere centres (their sites: the link origin + R_foot feet.offset) in
+        the world frame (n_feet, 3) [m]; with a zero offset MuJoCo copies the link origin."""
+        return self.data.site_xpos[self._foot_sites].copy()
 
     def foot_contact_forces(self) -> np.ndarray:
         """Force exerted by the ground on each foot, world frame (n_feet, 3) [N], summed over the

@@ -40,7 +40,7 @@ supervised_adapter = _native.supervised_adapter if _native.available else None
 ESTOP, REFERENCE, FORCE, GAIN = 0, 1, 2, 3
 # Probe sources (cpp/sil/native_loop.hpp).
 (_SENSOR, _SITE_POS, _SITE_MAT, _BODY_POS, _BODY_QUAT, _QPOS, _QVEL, _BODIES_POS,
- _CONTACT_FORCE, _SUBTREE_COM, _ACTUATOR_FORCE, _BODY_MAT) = range(12)
+ _CONTACT_FORCE, _SUBTREE_COM, _ACTUATOR_FORCE, _BODY_MAT, _SITES_POS) = range(13)
 
 
 def _load_mujoco() -> str:

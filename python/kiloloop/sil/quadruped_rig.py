@@ -221,7 +221,7 @@ class QuadrupedRig:
                 ("base_vel", native_loop._QVEL, list(range(fd, fd + 3))),
                 ("base_omega", native_loop._QVEL, list(range(fd + 3, fd + 6))),
                 ("foot_force", native_loop._CONTACT_FORCE, feet),
-                ("foot_pos", native_loop._BODIES_POS, feet)]
+                ("foot_pos", native_loop._SITES_POS, [int(i) for i in p._foot_sites])]
 
     def native_rollout(self, duration: float, command: CommandSchedule, events=(), stop_when=None,
                        data=None, adapter=None, seed: int | None = None):
