@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include <Eigen/Cholesky>
+#include <Eigen/Eigenvalues>
 #include <Eigen/LU>
 #include <kdl/chaindynparam.hpp>
 #include <kdl/jntspaceinertiamatrix.hpp>
@@ -101,6 +102,35 @@ Status validate(const QuadrupedConfig& c, std::string* why) {
     return s;
   }
   return Status::kOk;
+}
+
+// [rad/s] the swing PD's highest natural frequency on the legs' full joint-space mass matrices
+// (the joints coupled, not each on its own diagonal inertia): the largest sqrt(eig(H^-1 Kp)) over
+// the legs, each at its standing pose and at its swing's apex (the foot swing_height straight
+// above its standing place; skipped where the leg cannot reach it). Kp = diag(swing_kp) > 0, so
+// eig(H^-1 Kp) = eig(Kp^1/2 H^-1 Kp^1/2), a symmetric one. Configure-time (allocates).
+double QuadrupedController::coupled_swing_frequency(const QuadrupedController& c,
+                                                    const QuadrupedConfig& cfg) {
+  if (!(cfg.swing_kp.array() > 0).all()) return 0.0;
+  const Eigen::Matrix3d root_kp = cfg.swing_kp.cwiseSqrt().asDiagonal();
+  double largest = 0.0;  // [1/s^2]
+  for (int i = 0; i < kLegs; ++i) {
+    const Eigen::Vector3d q_stand = c.stand_q_.segment<3>(3 * i);
+    Eigen::Vector3d q_apex = q_stand;
+    const Eigen::Vector3d apex =
+        c.legs_[i].foot_position(q_stand) + Eigen::Vector3d(0, 0, cfg.swing_height);
+    const int poses = ok(c.legs_[i].inverse(apex, q_apex)) ? 2 : 1;
+    for (int k = 0; k < poses; ++k) {
+      const Eigen::Matrix3d H = c.leg_inertia_[i].at(k == 0 ? q_stand : q_apex);
+      const Eigen::LLT<Eigen::Matrix3d> llt(H);
+      if (llt.info() != Eigen::Success) continue;
+      const Eigen::Matrix3d A = root_kp * llt.solve(root_kp);
+      const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(0.5 * (A + A.transpose()),
+                                                              Eigen::EigenvaluesOnly);
+      largest = std::max(largest, eig.eigenvalues().maxCoeff());
+    }
+  }
+  return std::sqrt(largest);
 }
 
 Status QuadrupedController::configure(const QuadrupedConfig& config, RobotModelPtr model,
@@ -298,9 +328,16 @@ Status QuadrupedController::configure(const QuadrupedConfig& config, RobotModelP
     // With the joint predictor only its error is left of the delay inside the loop.
     const double unpredicted = cfg.predict_swing ? cfg.swing_prediction_residual : 1.0;
     const double t_swing_loop = unpredicted * cfg.actuation_delay + cfg.dt;
+    const double w_swing_max = cfg.swing_delay_margin / t_swing_loop;
     for (int j = 0; j < 3; ++j)
       if (inertia[j] > 0)
-        cap(cfg.swing_kp[j], cfg.swing_kd[j], inertia[j], cfg.swing_delay_margin / t_swing_loop);
+        cap(cfg.swing_kp[j], cfg.swing_kd[j], inertia[j], w_swing_max);
+    const double w_coupled = coupled_swing_frequency(c, cfg);
+    if (w_coupled > w_swing_max) {
+      const double s = w_swing_max / w_coupled;  // every joint's gains alike: the mode shapes kept
+      cfg.swing_kp *= s * s;
+      cfg.swing_kd *= s;
+    }
   }
   // Safe stop from the effort limits.
   for (int k = 0; k < 12; ++k) {
