@@ -18,3 +18,36 @@ def test_stands_and_trots_from_a_minimal_robot_file(tmp_path, name, scenario, du
     r = scenarios.run_named(scenario, kl.Robot.load(path), seed=0, duration=duration)
     for key, c in r.criteria.items():
         assert c["passed"], f"{name} {scenario}: {key} = {c['value']} (needs {c['op']} {c['threshold']})"
+
+
+@pytest.mark.parametrize("name,knees", [("anymal_b", ["BACKWARD", "BACKWARD", "FORWARD", "FORWARD"]),
+                                        ("anymal_c", ["BACKWARD", "BACKWARD", "FORWARD", "FORWARD"]),
+                                        ("solo12", ["BACKWARD"] * 4), ("go1", ["BACKWARD"] * 4)])
+def test_knees_bend_nearer_the_urdf_zero_pose(tmp_path, name, knees):
+    """Where a knee's limits allow both bends, the derived one keeps the standing knee angle
+    nearer the URDF's zero pose: ANYmal's shank carries its foot off the shank's axis (forward on
+    the front legs, backward on the hind ones), so its hind knees bend forward (its own stance;
+    backward hind knees tilted their shanks 64 deg and put the adapters on the ground); a straight
+    shank (Solo12) is a tie and stays backward; Go1's limits allow backward only."""
+    from kiloloop.robot.quadruped import controller_config
+
+    path = robot_file(name, tmp_path)
+    if path is None:
+        pytest.skip("example-robot-data not installed")
+    robot = kl.Robot.load(path)
+    ctrl = kl._core.QuadrupedController(robot.model(), controller_config(robot))
+    assert [str(k).split(".")[-1] for k in ctrl.config.knees] == knees
+
+
+@pytest.mark.parametrize("name,scenario,duration", [("anymal_b", "quadruped-stand", 2.0),
+                                                    ("anymal_c", "quadruped-trot", 4.0)])
+def test_anymal_from_a_minimal_robot_file(tmp_path, name, scenario, duration):
+    """ANYmal's contact spheres sit 23 mm up the shank (foot_offset), its folded legs are light
+    about the abduction axis (the coupled swing-gain margin) and its hind knees bend forward:
+    B stood 0.22 m off its height and fell, C fell trotting, before those three."""
+    path = robot_file(name, tmp_path)
+    if path is None:
+        pytest.skip("example-robot-data not installed")
+    r = scenarios.run_named(scenario, kl.Robot.load(path), seed=0, duration=duration)
+    for key, c in r.criteria.items():
+        assert c["passed"], f"{name} {scenario}: {key} = {c['value']} (needs {c['op']} {c['threshold']})"

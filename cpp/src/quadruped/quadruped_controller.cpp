@@ -104,6 +104,30 @@ Status validate(const QuadrupedConfig& c, std::string* why) {
   return Status::kOk;
 }
 
+// The knee bend of a leg whose joint limits allow both (kAuto, resolved backward by
+// leg_geometry_from_model): the one whose knee angle standing (the foot body_height below, under
+// its hip) lies nearer the URDF's zero pose, the leg as its designers drew it; backward on a tie
+// (a straight shank: the same angle either way, Solo12). ANYmal's shank carries its foot 0.1 m
+// off the shank's axis, forward on the front legs and backward on the hind ones: backward knees
+// everywhere bent the hind knees 2.25 rad against the front's 1.60, tilted the hind shanks 64 deg
+// from vertical and put their adapter cylinders on the ground; forward hind knees mirror the
+// front legs (ANYmal's own stance).
+LegGeometry QuadrupedController::knee_nearer_zero(const LegGeometry& g, const QuadrupedConfig& cfg) {
+  const double b0 = g.sign[2] * g.lower[2] + g.a_shank - g.a_thigh;  // bend at the limits
+  const double b1 = g.sign[2] * g.upper[2] + g.a_shank - g.a_thigh;
+  if (!(std::min(b0, b1) < -1e-9 && std::max(b0, b1) > 1e-9)) return g;  // one bend only
+  const Eigen::Vector3d stand(g.abd_origin.x(), g.abd_origin.y() + g.l_abd,
+                              -(cfg.body_height - cfg.foot_radius));
+  LegGeometry forward = g, backward = g;
+  forward.knee = KneeDirection::kForward;
+  backward.knee = KneeDirection::kBackward;
+  Eigen::Vector3d q_forward = Eigen::Vector3d::Zero(), q_backward = Eigen::Vector3d::Zero();
+  const bool f_ok = ok(LegKinematics(forward).inverse(stand, q_forward));
+  const bool b_ok = ok(LegKinematics(backward).inverse(stand, q_backward));
+  if (f_ok && (!b_ok || std::abs(q_forward[2]) < std::abs(q_backward[2]) - 1e-9)) return forward;
+  return b_ok ? backward : g;
+}
+
 // [rad/s] the swing PD's highest natural frequency on the legs' full joint-space mass matrices
 // (the joints coupled, not each on its own diagonal inertia): the largest sqrt(eig(H^-1 Kp)) over
 // the legs, each at its standing pose and at its swing's apex (the foot swing_height straight
@@ -196,6 +220,11 @@ Status QuadrupedController::configure(const QuadrupedConfig& config, RobotModelP
       h += 0.25 * (cfg.stand_extension * leg.geometry().length() - hip_z(leg.geometry()));
     cfg.body_height = h + cfg.foot_radius;
   }
+  for (int i = 0; i < kLegs; ++i)
+    if (config.knees[i] == KneeDirection::kAuto) {
+      c.legs_[i] = LegKinematics(knee_nearer_zero(c.legs_[i].geometry(), cfg));
+      cfg.knees[i] = c.legs_[i].geometry().knee;
+    }
   // Standing and crouch poses: IK of the feet below the hips (crouch raised until the limits allow).
   for (int i = 0; i < kLegs; ++i) {
     const LegGeometry& g = c.legs_[i].geometry();

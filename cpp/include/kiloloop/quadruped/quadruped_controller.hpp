@@ -44,7 +44,9 @@ inline StanceForceConfig derived_stance_force() {
 struct QuadrupedConfig {
   std::string trunk_link = "trunk";
   std::array<std::string, 4> feet{"FL_foot", "FR_foot", "RL_foot", "RR_foot"};
-  // Knee bend per leg (FL, FR, RL, RR); kAuto: from the knee's joint limits.
+  // Knee bend per leg (FL, FR, RL, RR); kAuto: the bend the knee's joint limits allow, and where
+  // they allow both, the one whose standing knee angle lies nearer the URDF's zero pose
+  // (QuadrupedController::knee_nearer_zero: ANYmal's hind knees forward, its front ones backward).
   std::array<KneeDirection, 4> knees{KneeDirection::kAuto, KneeDirection::kAuto,
                                      KneeDirection::kAuto, KneeDirection::kAuto};
   double dt = 0.001;                  // [s] control period
@@ -275,6 +277,7 @@ class QuadrupedController {
 
  private:
   static double coupled_swing_frequency(const QuadrupedController& c, const QuadrupedConfig& cfg);
+  static LegGeometry knee_nearer_zero(const LegGeometry& g, const QuadrupedConfig& cfg);
   // Per-tick scratch: what one stage of run() hands to the next (fixed size, in the workspace).
   struct Tick {
     Status status = Status::kOk;
