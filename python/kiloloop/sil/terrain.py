@@ -112,7 +112,19 @@ class Rough:
     """Heightfield of smooth random bumps: white noise (seeded) low-passed with a Gaussian of
     standard deviation bump_length / 4, scaled so that the largest |height| is `amplitude` [m];
     faded in over x in [pad, 2 pad] so the start is flat. Covers x in [-pad, length],
-    |y| <= half_width on a grid of `cell` [m]."""
+    |y| <= half_width on a grid of `cell` [m].
+
+    Its contact is stiffer than MuJoCo's default (solref time constant `contact_time_constant`
+    instead of 0.02 s; the heightfield's solmix makes it the pair's). A heightfield is prisms, two
+    per cell, and a foot sunk below a cell's surface meets their side faces: measured
+    (scripts/hfield_trap_probe.py), a 20 mm sphere landing at 2-3 m/s (a swing foot at 35 ms of
+    actuation delay) sank 17-27 mm, more than its radius, and stayed held there, where the plane
+    released it; both robots failed rough ground at 35 ms (ours on seeds 0-4: 2 falls and 3
+    criteria missed). Rigid ground a foot sinks into deeper than its own radius is
+    not rigid: at 0.008 s (8 physics steps at 1 ms) our model passes seeds 0-4 at 35 ms; 0.004 s
+    too; 0.002 s (2 steps, MuJoCo's stability floor) falls on 4 of 5. Go1 still falls on all five
+    at 35 ms (seed 0: a swing foot 118 mm up against 68 planned, then the trunk tips;
+    bench/go1_35ms_diagnosis.md). At 10 ms both robots pass seeds 0-4 either way."""
     amplitude: float
     bump_length: float
     seed: int = 0
@@ -120,6 +132,7 @@ class Rough:
     pad: float = 0.4
     length: float = 8.0
     half_width: float = 1.5
+    contact_time_constant: float = 0.008  # [s] solref[0] (damping ratio 1)
 
     def __post_init__(self):
         x = np.arange(-self.pad, self.length + 0.5 * self.cell, self.cell)
@@ -155,6 +168,8 @@ class Rough:
                                        hfieldname="rough",
                                        pos=[self.x[0] + rx, self.y[0] + ry, lo])
         _geom_flags(geom, friction)
+        geom.solref = [self.contact_time_constant, 1.0]
+        geom.solmix = 1e3  # the pair's solref is the solmix-weighted mean: the heightfield's
 
     def height(self, x: float, y: float) -> float:
         """Ground height [m] at (x, y): bilinear in the grid (MuJoCo splits each cell into two
