@@ -1,6 +1,7 @@
 #include "kiloloop/kinematics/leg_kinematics.hpp"
 #include "kiloloop/model/kdl_eigen.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 #include <kdl/chain.hpp>
@@ -29,6 +30,15 @@ Eigen::Vector3d foot_point(const KDL::Frame& T, const Eigen::Vector3d& offset) {
 }
 
 }  // namespace
+
+KneeBends allowed_bends(const LegGeometry& g) {
+  const double b0 = g.sign[2] * g.lower[2] + g.a_shank - g.a_thigh;  // bend at the limits
+  const double b1 = g.sign[2] * g.upper[2] + g.a_shank - g.a_thigh;
+  KneeBends out;
+  out.backward = std::min(b0, b1) < -1e-9;
+  out.forward = std::max(b0, b1) > 1e-9;
+  return out;
+}
 
 Status leg_geometry_from_model(const RobotModel& model, const std::string& trunk,
                                const std::string& foot, LegGeometry* out, std::string* why,
@@ -90,12 +100,8 @@ Status leg_geometry_from_model(const RobotModel& model, const std::string& trunk
         g.upper[i] = model.upper()[k];
       }
   }
-  // Bend angle beta = q2 (internal sign) + a_shank - a_thigh: beta < 0 knee backward.
-  if (knee == KneeDirection::kAuto) {
-    const double b0 = g.sign[2] * g.lower[2] + g.a_shank - g.a_thigh;
-    const double b1 = g.sign[2] * g.upper[2] + g.a_shank - g.a_thigh;
-    knee = std::min(b0, b1) >= -1e-9 ? KneeDirection::kForward : KneeDirection::kBackward;
-  }
+  if (knee == KneeDirection::kAuto)
+    knee = allowed_bends(g).backward ? KneeDirection::kBackward : KneeDirection::kForward;
   g.knee = knee;
   // The closed form must reproduce KDL's FK (catches layouts the algebra above cannot express).
   const LegKinematics leg(g);

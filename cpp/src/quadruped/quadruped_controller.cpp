@@ -113,9 +113,8 @@ Status validate(const QuadrupedConfig& c, std::string* why) {
 // from vertical and put their adapter cylinders on the ground; forward hind knees mirror the
 // front legs (ANYmal's own stance).
 LegGeometry QuadrupedController::knee_nearer_zero(const LegGeometry& g, const QuadrupedConfig& cfg) {
-  const double b0 = g.sign[2] * g.lower[2] + g.a_shank - g.a_thigh;  // bend at the limits
-  const double b1 = g.sign[2] * g.upper[2] + g.a_shank - g.a_thigh;
-  if (!(std::min(b0, b1) < -1e-9 && std::max(b0, b1) > 1e-9)) return g;  // one bend only
+  const KneeBends bends = allowed_bends(g);
+  if (!(bends.backward && bends.forward)) return g;  // one bend only
   const Eigen::Vector3d stand(g.abd_origin.x(), g.abd_origin.y() + g.l_abd,
                               -(cfg.body_height - cfg.foot_radius));
   LegGeometry forward = g, backward = g;

@@ -39,6 +39,14 @@ struct LegGeometry {
   double length() const { return l_thigh + l_shank; }  // [m] fully stretched hip -> foot
 };
 
+// Which bends the knee's joint limits allow (bend angle beta = q2 (internal sign) + a_shank -
+// a_thigh: beta < 0 backward, beta > 0 forward).
+struct KneeBends {
+  bool backward = false;
+  bool forward = false;
+};
+KneeBends allowed_bends(const LegGeometry& g);
+
 // Reads the geometry of the chain trunk -> foot; fails with the reason when the chain is not
 // abduction(+-x) - pitch(+-y) - knee(+-y), or when the closed form does not reproduce KDL's
 // forward kinematics. `knee` picks the bend (kAuto: from the knee limits). The foot point is
