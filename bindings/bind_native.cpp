@@ -25,6 +25,7 @@
 #include "sil/mujoco_api.hpp"
 #include "sil/native_loop.hpp"
 #include "sil/quadruped_adapter.hpp"
+#include "sil/smooth_heightfield.hpp"
 #include "sil/wind_drag.hpp"
 #endif
 
@@ -100,6 +101,27 @@ void bind_native(py::module_& parent) {
           return std::string(mujoco_api().version_string());
         },
         py::arg("path"), "resolves MuJoCo's functions from the already-loaded libmujoco at path");
+  m.attr("smooth_heightfield_prefix") = kSmoothHeightfieldPrefix;
+  m.def("install_smooth_heightfield",
+        [] {
+          std::string why;
+          if (!install_smooth_heightfield(&why)) throw py::value_error(why);
+        },
+        "one contact per sphere on heightfields named kiloloop_smooth* (sil/smooth_heightfield.hpp)");
+  m.def("sphere_on_bilinear",
+        [](const Array& heights, double rx, double ry, double elevation, const Array& centre, double radius,
+           double margin) -> py::object {
+          if (heights.ndim() != 2 || centre.size() != 3) throw py::value_error("heights (nrow, ncol), centre (3)");
+          std::vector<float> data(heights.data(), heights.data() + heights.size());
+          double dist, pos[3], n[3];
+          if (!sphere_on_bilinear(data.data(), static_cast<int>(heights.shape(0)), static_cast<int>(heights.shape(1)),
+                                  rx, ry, elevation, centre.data(), radius, margin, &dist, pos, n))
+            return py::none();
+          return py::make_tuple(dist, Array(3, pos), Array(3, n));
+        },
+        py::arg("heights"), py::arg("rx"), py::arg("ry"), py::arg("elevation"), py::arg("centre"),
+        py::arg("radius"), py::arg("margin") = 0.0,
+        "the contact smooth_heightfield_sphere makes: (dist, pos, normal) or None (tests)");
   m.def("mujoco_loaded", &mujoco_api_loaded);
   m.def("mujoco_library", &library_path, "path of the libmujoco the native loop calls");
 

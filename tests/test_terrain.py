@@ -88,3 +88,87 @@ def test_terrain_and_slope_do_not_mix(tmp_path):
     with pytest.raises(ValueError, match="slope"):
         FloatingBasePlant(ball_urdf(tmp_path, 1.0), {"feet": {"bodies": ["ball"]}}, slope_deg=5.0,
                           terrain=Stones(spread=0.01))
+
+
+# --- The heightfield's contact (cpp/sil/smooth_heightfield.hpp) --------------------------------
+
+def sphere_world(ground, solref=(0.008, 1.0)):
+    """A 20 mm, 0.3 kg sphere (a quadruped's foot) above `ground`: "plane", or a Rough terrain
+    spec; the quadruped plant's physics options."""
+    spec = mujoco.MjSpec()
+    spec.option.cone = mujoco.mjtCone.mjCONE_ELLIPTIC
+    spec.option.impratio = 100.0
+    spec.option.noslip_iterations = 5
+    spec.option.integrator = mujoco.mjtIntegrator.mjINT_IMPLICITFAST
+    spec.option.timestep = 0.001
+    if ground == "plane":
+        geom = spec.worldbody.add_geom(type=mujoco.mjtGeom.mjGEOM_PLANE, size=[0, 0, 0.05])
+        geom.friction = [0.8, 0.005, 0.0001]
+        geom.solref, geom.solmix = list(solref), 1e3  # as Rough sets its own
+    else:
+        ground.add_to(spec, 0.8)
+    body = spec.worldbody.add_body(name="foot", pos=[1.2, 0.15, 0.1])
+    body.add_freejoint()
+    body.add_geom(type=mujoco.mjtGeom.mjGEOM_SPHERE, size=[0.02, 0, 0], mass=0.3)
+    model = spec.compile()
+    return model, mujoco.MjData(model)
+
+
+def drop(model, data, vz, steps=150):
+    """The sphere's height [m] each step after it is thrown down at vz [m/s] (0.5 m/s forward),
+    and the largest number of contacts it had at once."""
+    data.qpos[:3] = [1.2, 0.15, 0.021]
+    data.qvel[0], data.qvel[2] = 0.5, vz
+    z, most = [], 0
+    for _ in range(steps):
+        mujoco.mj_step(model, data)
+        z.append(data.qpos[2])
+        most = max(most, data.ncon)
+    return np.array(z), most
+
+
+@pytest.mark.parametrize("vz", [-1.0, -3.0])
+def test_a_flat_heightfield_is_the_plane_to_a_foot(vz):
+    """One contact per sphere, the plane's: the same motion as on MuJoCo's plane with the same
+    contact parameters, also for a foot landing at 3 m/s, which sinks more than its radius' worth
+    of the 2 cm cells and which MuJoCo's prism collider held down (scripts/hfield_trap_probe.py)."""
+    z_plane, n_plane = drop(*sphere_world("plane"), vz)
+    z_field, n_field = drop(*sphere_world(Rough(amplitude=0.0, bump_length=0.3)), vz)
+    assert n_plane == n_field == 1
+    np.testing.assert_allclose(z_field, z_plane, rtol=0, atol=1e-12)  # round-off: 1e-16 m measured
+    assert z_field[-1] == pytest.approx(0.02, abs=1e-3)  # released: resting on the surface
+
+
+def test_the_stock_collider_is_kept_for_unmarked_heightfields():
+    """Rough(smooth_contact=False) keeps MuJoCo's prism collider: more than one contact for one
+    sphere, and with MuJoCo's default contact time constant (0.02 s) a foot landing at 3 m/s
+    stays held below the surface, where the smooth contact releases it."""
+    def rest(smooth):
+        rough = Rough(amplitude=0.0, bump_length=0.3, contact_time_constant=0.02, smooth_contact=smooth)
+        return drop(*sphere_world(rough), -3.0)
+    z_stock, most_stock = rest(False)
+    z_smooth, most_smooth = rest(True)
+    assert most_stock > 1 and most_smooth == 1
+    assert z_stock[-1] < 0.02 - 0.01                         # held 10+ mm deep
+    assert z_smooth[-1] == pytest.approx(0.02, abs=1e-3)     # on the surface
+
+
+def test_the_contact_follows_the_surface_slope():
+    """sphere_on_bilinear on a plane tilted along x (heights linear in the column): the normal is
+    the plane's, dist the sphere's distance from it; off the grid there is no contact."""
+    from kiloloop.sil import native
+
+    nrow, ncol, rx, ry = 5, 9, 0.4, 0.2            # cells 0.1 m
+    slope = 0.25                                    # [m/m] along x
+    xs = np.linspace(-rx, rx, ncol)
+    heights = np.tile(slope * (xs + rx), (nrow, 1)) / (2 * slope * rx)  # normalized 0..1
+    elevation = 2 * slope * rx
+    centre = np.array([0.05, 0.03, 0.3])
+    dist, pos, normal = native.sphere_on_bilinear(heights, rx, ry, elevation, centre, 0.02, 1.0)
+    n = np.array([-slope, 0.0, 1.0]) / np.hypot(slope, 1.0)
+    np.testing.assert_allclose(normal, n, atol=1e-12)
+    surface = slope * (centre[0] + rx)
+    assert dist == pytest.approx((centre[2] - surface) * n[2] - 0.02, abs=1e-12)
+    np.testing.assert_allclose(pos, centre - (0.02 + 0.5 * dist) * n, atol=1e-12)
+    assert native.sphere_on_bilinear(heights, rx, ry, elevation, np.array([0.5, 0.0, 0.0]), 0.02) is None
+    assert native.sphere_on_bilinear(heights, rx, ry, elevation, centre, 0.02, margin=0.0) is None

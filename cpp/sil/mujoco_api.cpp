@@ -27,7 +27,8 @@ bool load_mujoco_api(const std::string& path, std::string* why) {
   if (!resolve(handle, "mj_step", &api.step, why) || !resolve(handle, "mj_step1", &api.step1, why) ||
       !resolve(handle, "mj_step2", &api.step2, why) ||
       !resolve(handle, "mj_contactForce", &api.contact_force, why) || !resolve(handle, "mj_version", &api.version, why) ||
-      !resolve(handle, "mj_versionString", &api.version_string, why))
+      !resolve(handle, "mj_versionString", &api.version_string, why) ||
+      !resolve(handle, "mjCOLLISIONFUNC", &api.collision_table, why))
     return false;
   if (api.version() != mjVERSION_HEADER) {
     *why = std::string("libmujoco ") + api.version_string() + " differs from the headers kiloloop was built with (" +

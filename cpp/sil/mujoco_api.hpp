@@ -18,6 +18,9 @@ struct MujocoApi {
   void (*contact_force)(const mjModel*, const mjData*, int, mjtNum*) = nullptr;
   int (*version)() = nullptr;
   const char* (*version_string)() = nullptr;
+  // MuJoCo's table of narrow-phase collision functions by geom type pair (a data symbol, exported
+  // so that applications may replace entries: sil/smooth_heightfield.hpp does).
+  mjfCollision (*collision_table)[mjNGEOMTYPES] = nullptr;
 };
 
 // Resolves the functions from an already-loaded library at `path`. False with why when it is not

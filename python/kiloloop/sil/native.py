@@ -74,6 +74,21 @@ def available() -> bool:
     return not _UNAVAILABLE
 
 
+# Heightfields named with this prefix get one contact per sphere from their smooth surface
+# (cpp/sil/smooth_heightfield.hpp); sil/terrain.py's Rough names its heightfield so.
+SMOOTH_HEIGHTFIELD_PREFIX = _native.smooth_heightfield_prefix if _native.available else ""
+# The contact it makes, for tests: (dist, pos, normal) of a sphere on a bilinear height grid, or None.
+sphere_on_bilinear = _native.sphere_on_bilinear if _native.available else None
+
+
+def install_smooth_heightfield() -> None:
+    """Puts kiloloop's sphere : heightfield collider into this process's libmujoco (once; for
+    the Python loop and the native one alike). Raises RuntimeError where the native loop cannot
+    run: without it the heightfield would silently collide otherwise."""
+    check()
+    _native.install_smooth_heightfield()
+
+
 def check() -> None:
     """Raises RuntimeError (with the reason) unless available()."""
     if _UNAVAILABLE:

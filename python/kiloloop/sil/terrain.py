@@ -9,7 +9,7 @@ the rough and stony part runs along +x, the direction the scenarios trot.
   Stones     square stones (boxes, side `size`) on a grid, tops at random heights, seeded;
              `gap` [m] between neighbours, the base plane `depth` below the lowest top.
   Rough      a heightfield of smooth random bumps (peak |height| `amplitude`, correlation length
-             `bump_length`), seeded.
+             `bump_length`), seeded; one contact per foot sphere (kiloloop's collider).
   Compliant  a flat floor whose normal stiffness per contact is `stiffness` [N/m] (MuJoCo's soft
              contact calibrated with each robot geom's constraint mass; see configure).
 """
@@ -114,17 +114,23 @@ class Rough:
     faded in over x in [pad, 2 pad] so the start is flat. Covers x in [-pad, length],
     |y| <= half_width on a grid of `cell` [m].
 
-    Its contact is stiffer than MuJoCo's default (solref time constant `contact_time_constant`
-    instead of 0.02 s; the heightfield's solmix makes it the pair's). A heightfield is prisms, two
-    per cell, and a foot sunk below a cell's surface meets their side faces: measured
-    (scripts/hfield_trap_probe.py), a 20 mm sphere landing at 2-3 m/s (a swing foot at 35 ms of
-    actuation delay) sank 17-27 mm, more than its radius, and stayed held there, where the plane
-    released it; both robots failed rough ground at 35 ms (ours on seeds 0-4: 2 falls and 3
-    criteria missed). Rigid ground a foot sinks into deeper than its own radius is
-    not rigid: at 0.008 s (8 physics steps at 1 ms) our model passes seeds 0-4 at 35 ms; 0.004 s
-    too; 0.002 s (2 steps, MuJoCo's stability floor) falls on 4 of 5. Go1 still falls on all five
-    at 35 ms (seed 0: a swing foot 118 mm up against 68 planned, then the trunk tips;
-    bench/go1_35ms_diagnosis.md). At 10 ms both robots pass seeds 0-4 either way."""
+    Its contact is kiloloop's (cpp/sil/smooth_heightfield.hpp, `smooth_contact`): one contact per
+    foot sphere, on the plane tangent to the bilinear surface below its centre (the surface
+    `height` describes), where MuJoCo's heightfield collider makes one per triangular prism
+    touched: 4-16 contacts for one 20 mm sphere on the 2 cm cells, whose side faces meet a foot
+    sunk below a cell's surface and hold it (normals up to 90 deg from vertical; a foot landing at
+    2-3 m/s stayed 17-27 mm deep, `python scripts/hfield_trap_probe.py`). Go1 at 35 ms of
+    actuation delay fell on seeds 0-4 on a FLAT heightfield of MuJoCo's, while it trots on the
+    plane; with this contact a flat heightfield is the plane to round-off (1e-16 m,
+    tests/test_terrain.py) and Go1 passes seeds 0-4 at 35 ms. Foot shapes other than spheres
+    keep MuJoCo's collider.
+
+    The contact is stiffer than MuJoCo's default (solref time constant `contact_time_constant`
+    instead of 0.02 s; the heightfield's solmix makes it the pair's): ground a foot landing at
+    2-3 m/s sinks 14-22 mm into (the plane's figures at 0.02 s) is not rigid; at 0.008 s (8
+    physics steps at 1 ms) 5-8 mm. Measured at 35 ms with 0.02 s instead: our model passes seeds
+    0-4, Go1 falls on seeds 1 and 2 (bench/go1_35ms_diagnosis.md). At 10 ms both robots pass
+    seeds 0-4 either way."""
     amplitude: float
     bump_length: float
     seed: int = 0
@@ -133,6 +139,9 @@ class Rough:
     length: float = 8.0
     half_width: float = 1.5
     contact_time_constant: float = 0.008  # [s] solref[0] (damping ratio 1)
+    # One contact per foot sphere from the bilinear surface (cpp/sil/smooth_heightfield.hpp)
+    # instead of MuJoCo's one per heightfield prism touched; other foot shapes keep MuJoCo's.
+    smooth_contact: bool = True
 
     def __post_init__(self):
         x = np.arange(-self.pad, self.length + 0.5 * self.cell, self.cell)
@@ -161,11 +170,16 @@ class Rough:
         rx, ry = 0.5 * (self.x[-1] - self.x[0]), 0.5 * (self.y[-1] - self.y[0])
         # MuJoCo scales the normalized data by size[2] above the geom's z; size[3] is the depth
         # of the solid below the lowest point. Rows run along +y, columns along +x.
-        spec.add_hfield(name="rough", size=[rx, ry, max(hi - lo, 1e-6), 0.05],
+        name = "rough"
+        if self.smooth_contact:
+            from . import native
+            native.install_smooth_heightfield()
+            name = native.SMOOTH_HEIGHTFIELD_PREFIX + "_rough"
+        spec.add_hfield(name=name, size=[rx, ry, max(hi - lo, 1e-6), 0.05],
                         nrow=self.y.size, ncol=self.x.size,
                         userdata=((self.heights - lo) / max(hi - lo, 1e-6)).ravel().tolist())
         geom = spec.worldbody.add_geom(name="rough", type=mujoco.mjtGeom.mjGEOM_HFIELD,
-                                       hfieldname="rough",
+                                       hfieldname=name,
                                        pos=[self.x[0] + rx, self.y[0] + ry, lo])
         _geom_flags(geom, friction)
         geom.solref = [self.contact_time_constant, 1.0]
