@@ -54,6 +54,13 @@ double approach(double from, double to, double step) {
   return from + std::clamp(to - from, -step, step);
 }
 
+// The legs in a set of legs (bit i for leg i).
+std::array<bool, QuadrupedController::kLegs> legs_in(int set) {
+  std::array<bool, QuadrupedController::kLegs> legs{};
+  for (int i = 0; i < QuadrupedController::kLegs; ++i) legs[i] = (set >> i) & 1;
+  return legs;
+}
+
 }  // namespace
 
 Status validate(const QuadrupedConfig& c, std::string* why) {
@@ -287,6 +294,10 @@ Status QuadrupedController::configure(const QuadrupedConfig& config, RobotModelP
       for (auto& a : c.inertia_free_.momentum) a = scale * a;
     }
     cfg.inertia_diag = c.inertia_.diagonal();
+    // distribute_forces' trunk inertia for each set of swinging legs: a constant of the standing
+    // pose, so its 3x3 inverse and products are done here once, not every tick.
+    for (int set = 0; set < (1 << kLegs); ++set)
+      c.inertia_by_swing_set_[set] = c.inertia_free_.rotational(legs_in(set));
   }
   // Stance-force QP: a moment error weighs as the trunk acceleration it causes at the feet
   // against the CoM acceleration of a force error (QuadrupedConfig::force), unless given.
@@ -837,9 +848,9 @@ void QuadrupedController::distribute_forces(QuadrupedOutput& out) noexcept {
     force += f_.segment<3>(3 * i);
     moment += feet[i].cross(f_.segment<3>(3 * i));
   }
-  std::array<bool, kLegs> swinging{};
-  for (int i = 0; i < kLegs; ++i) swinging[i] = !k.stance[i];
-  const Eigen::Matrix3d I_body = cfg_.predict_legs_free ? inertia_free_.rotational(swinging) : inertia_;
+  int swinging = 0;  // the set of swing legs, bit i for leg i
+  for (int i = 0; i < kLegs; ++i) swinging |= k.stance[i] ? 0 : 1 << i;
+  const Eigen::Matrix3d& I_body = cfg_.predict_legs_free ? inertia_by_swing_set_[swinging] : inertia_;
   const Eigen::Matrix3d I_world = k.R * I_body * k.R.transpose();
   k.accel.head<3>() = force / mass_;
   k.accel.tail<3>() = Ldlt3(I_world).solve(moment);  // Eigen's ldlt() bit for bit (ldlt3.hpp)
