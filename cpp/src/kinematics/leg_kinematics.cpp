@@ -162,10 +162,11 @@ Eigen::Matrix3d LegKinematics::jacobian(const Eigen::Vector3d& q) const noexcept
 }
 
 void LegKinematics::foot_and_jacobian(const Eigen::Vector3d& q, Eigen::Vector3d* foot,
-                                      Eigen::Matrix3d* jacobian) const noexcept {
+                                      Eigen::Matrix3d* jacobian, Eigen::Vector3d* pitch_axis) const noexcept {
   const Angles a = angles(q);
   *foot = foot_from(a);
   *jacobian = jacobian_from(a);
+  if (pitch_axis) *pitch_axis = Eigen::Vector3d(0.0, a.c0, a.s0);
 }
 
 Status LegKinematics::inverse(const Eigen::Vector3d& foot, Eigen::Vector3d& q) const noexcept {

@@ -69,8 +69,10 @@ class LegKinematics {
   Eigen::Matrix3d jacobian(const Eigen::Vector3d& q) const noexcept;       // d foot / d q
   // Both at once, equal to the two calls bit for bit: one set of the joint angles' sines and
   // cosines (the controller needs both for every leg every tick; three sin/cos pairs a set).
-  void foot_and_jacobian(const Eigen::Vector3d& q, Eigen::Vector3d* foot,
-                         Eigen::Matrix3d* jacobian) const noexcept;
+  // pitch_axis (optional): the hip pitch and knee axes' direction in the trunk frame, (0, cos,
+  // sin) of sign[0] q[0] (the abduction turns them about x), from the same set.
+  void foot_and_jacobian(const Eigen::Vector3d& q, Eigen::Vector3d* foot, Eigen::Matrix3d* jacobian,
+                         Eigen::Vector3d* pitch_axis = nullptr) const noexcept;
 
   // The solution with the geometry's knee direction. Returns kUnreachable and leaves q untouched
   // when the point is out of reach or the solution breaks a joint limit.
