@@ -101,9 +101,12 @@ inline double row_dot(const double* M, int ld, int i, const double* x, int n) {
 // (all entries below ~1e-154) is recomputed scaled by the row's largest entry: the norm itself is
 // representable, and a 0 or inf there would make a violated row look infinitely or not at all
 // violated.
-bool row_norms(const double* M, int ld, int m, int n, double* norm1, double* norm2) {
+// kN > 0: n = kN, fixed at compile time (see cholesky_inverse).
+template <int kN = 0>
+bool row_norms(const double* M, int ld, int m, int n_runtime, double* norm1, double* norm2) {
+  const int n = kN > 0 ? kN : n_runtime;
   for (int i = 0; i < m; ++i) norm1[i] = norm2[i] = 0.0;
-  for (int j = 0; j < n; ++j) {
+  KILOLOOP_UNROLL for (int j = 0; j < n; ++j) {
     const double* col = M + j * ld;
     int i = 0;
     for (; i + 1 < m; i += 2) {  // pairs: 2-wide SIMD at -O2 (see rotate)
@@ -138,16 +141,20 @@ bool row_norms(const double* M, int ld, int m, int n, double* norm1, double* nor
   return true;
 }
 
-bool all_finite(const double* v, int n) {
+template <int kN = 0>
+bool all_finite(const double* v, int n_runtime) {
+  const int n = kN > 0 ? kN : n_runtime;
   bool finite = true;
-  for (int i = 0; i < n; ++i) finite &= v[i] - v[i] == 0.0;  // false for NaN and inf
+  KILOLOOP_UNROLL for (int i = 0; i < n; ++i) finite &= v[i] - v[i] == 0.0;  // false for NaN and inf
   return finite;
 }
 
 // Bounds: NaN is bad data; an infinity of the `absent` sign drops the bound, one of the other
 // sign can never be met.
-QpStatus check_bounds(const double* v, int n, double absent) {
-  for (int i = 0; i < n; ++i) {
+template <int kN = 0>
+QpStatus check_bounds(const double* v, int n_runtime, double absent) {
+  const int n = kN > 0 ? kN : n_runtime;
+  KILOLOOP_UNROLL for (int i = 0; i < n; ++i) {
     if (std::isnan(v[i])) return QpStatus::kBadInput;
     if (std::isinf(v[i]) && v[i] != absent) return QpStatus::kInfeasible;
   }
@@ -257,29 +264,35 @@ void DenseQpSolver::reset_warm_start() noexcept {
 
 // Finite H, g, A_eq, b_eq, C and row sums that do not overflow; H symmetric; d may hold +inf
 // (absent) and -inf (never met), lb -inf / +inf and ub +inf / -inf likewise. Fills the row norms.
+// The stance-force QP's 12 variables at a compile-time size (its loops unrolled: cholesky_inverse).
 QpStatus DenseQpSolver::check_values(const Problem& p) noexcept {
-  const int n = p.n;
+  return p.n == 12 ? check_values_of<12>(p) : check_values_of<0>(p);
+}
+
+template <int kN>
+QpStatus DenseQpSolver::check_values_of(const Problem& p) noexcept {
+  const int n = kN > 0 ? kN : p.n;
   // H finite: its diagonal here; an off-diagonal entry in the symmetry test below, whose
   // tolerance is finite once the diagonal is: an infinite or NaN entry makes the difference of
   // the pair infinite or NaN, which fails it (one pass over H instead of two).
-  for (int j = 0; j < n; ++j)
+  KILOLOOP_UNROLL for (int j = 0; j < n; ++j)
     if (!(p.H[j + j * p.ldh] - p.H[j + j * p.ldh] == 0.0)) return QpStatus::kBadInput;
   // H symmetric to a fraction of its largest diagonal entry, which bounds every entry of a
   // positive definite matrix.
   double max_diag = 0.0;
-  for (int j = 0; j < n; ++j) max_diag = std::max(max_diag, magnitude(p.H[j + j * p.ldh]));
+  KILOLOOP_UNROLL for (int j = 0; j < n; ++j) max_diag = std::max(max_diag, magnitude(p.H[j + j * p.ldh]));
   const double sym_tol = kSymmetryTol * max_diag;
-  for (int j = 0; j < n; ++j)
-    for (int i = j + 1; i < n; ++i)
+  KILOLOOP_UNROLL for (int j = 0; j < n; ++j)
+    KILOLOOP_UNROLL for (int i = j + 1; i < n; ++i)
       if (!(std::abs(p.H[i + j * p.ldh] - p.H[j + i * p.ldh]) <= sym_tol)) return QpStatus::kBadInput;
-  if (!all_finite(p.g, n) || !all_finite(p.b, p.me)) return QpStatus::kBadInput;
-  if (!row_norms(p.A, p.lda, p.me, n, norm1_.data(), norm2_.data())) return QpStatus::kBadInput;
-  if (!row_norms(p.C, p.ldc, p.mi, n, norm1_.data() + p.me, norm2_.data() + p.me))
+  if (!all_finite<kN>(p.g, n) || !all_finite(p.b, p.me)) return QpStatus::kBadInput;
+  if (!row_norms<kN>(p.A, p.lda, p.me, n, norm1_.data(), norm2_.data())) return QpStatus::kBadInput;
+  if (!row_norms<kN>(p.C, p.ldc, p.mi, n, norm1_.data() + p.me, norm2_.data() + p.me))
     return QpStatus::kBadInput;
   // NaN anywhere is bad data before an impossible bound is infeasible.
   const QpStatus sd = check_bounds(p.d, p.mi, kInf);
-  const QpStatus sl = p.lb ? check_bounds(p.lb, n, -kInf) : QpStatus::kOptimal;
-  const QpStatus su = p.ub ? check_bounds(p.ub, n, kInf) : QpStatus::kOptimal;
+  const QpStatus sl = p.lb ? check_bounds<kN>(p.lb, n, -kInf) : QpStatus::kOptimal;
+  const QpStatus su = p.ub ? check_bounds<kN>(p.ub, n, kInf) : QpStatus::kOptimal;
   if (sd == QpStatus::kBadInput || sl == QpStatus::kBadInput || su == QpStatus::kBadInput)
     return QpStatus::kBadInput;
   if (sd != QpStatus::kOptimal || sl != QpStatus::kOptimal || su != QpStatus::kOptimal)

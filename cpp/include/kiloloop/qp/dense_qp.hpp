@@ -114,6 +114,8 @@ class DenseQpSolver {
 
   // kOptimal when the data can be solved, else kBadInput or kInfeasible; fills the row norms.
   QpStatus check_values(const Problem& p) noexcept;
+  template <int kN>
+  QpStatus check_values_of(const Problem& p) noexcept;  // n = kN (0: p.n)
   Problem eliminate_fixed(const Problem& full) noexcept;
   bool factorize(const Problem& p) noexcept;
   double slack(const Problem& p, int c) const noexcept;  // n_c' x - b_c (>= form)
