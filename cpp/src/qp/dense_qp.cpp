@@ -105,22 +105,33 @@ inline double row_dot(const double* M, int ld, int i, const double* x, int n) {
 template <int kN = 0>
 bool row_norms(const double* M, int ld, int m, int n_runtime, double* norm1, double* norm2) {
   const int n = kN > 0 ? kN : n_runtime;
-  for (int i = 0; i < m; ++i) norm1[i] = norm2[i] = 0.0;
-  KILOLOOP_UNROLL for (int j = 0; j < n; ++j) {
-    const double* col = M + j * ld;
-    int i = 0;
-    for (; i + 1 < m; i += 2) {  // pairs: 2-wide SIMD at -O2 (see rotate)
-      const double v0 = std::abs(col[i]), v1 = std::abs(col[i + 1]);
-      norm1[i] += v0;
-      norm1[i + 1] += v1;
-      norm2[i] += v0 * v0;
-      norm2[i + 1] += v1 * v1;
+  // Each row's sums over the columns in order (j = 0, 1, ...), two rows at a time in registers
+  // (2-wide SIMD at -O2, see rotate). Summed in place, norm1 and norm2 were stored and loaded
+  // again for every entry: the compiler cannot rule out that they alias M.
+  int i = 0;
+  for (; i + 1 < m; i += 2) {
+    double s1 = 0.0, t1 = 0.0, s2 = 0.0, t2 = 0.0;  // rows i, i + 1: 1-norm, sum of squares
+    KILOLOOP_UNROLL for (int j = 0; j < n; ++j) {
+      const double v0 = std::abs(M[i + j * ld]), v1 = std::abs(M[i + 1 + j * ld]);
+      s1 += v0;
+      t1 += v1;
+      s2 += v0 * v0;
+      t2 += v1 * v1;
     }
-    if (i < m) {
-      const double v = std::abs(col[i]);
-      norm1[i] += v;
-      norm2[i] += v * v;
+    norm1[i] = s1;
+    norm1[i + 1] = t1;
+    norm2[i] = s2;
+    norm2[i + 1] = t2;
+  }
+  if (i < m) {
+    double s1 = 0.0, s2 = 0.0;
+    KILOLOOP_UNROLL for (int j = 0; j < n; ++j) {
+      const double v = std::abs(M[i + j * ld]);
+      s1 += v;
+      s2 += v * v;
     }
+    norm1[i] = s1;
+    norm2[i] = s2;
   }
   for (int i = 0; i < m; ++i) {
     if (!std::isfinite(norm1[i])) return false;  // |NaN| and |inf| propagate into the sum
