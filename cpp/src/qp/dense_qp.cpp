@@ -13,6 +13,21 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 // Complete unrolling of the loop that follows where its trip count is a compile-time constant
 // (cholesky_inverse's fixed sizes).
 #define KILOLOOP_UNROLL _Pragma("GCC unroll 16")
+
+// f(std::integral_constant<int, n>()) at the stance-force QP's sizes (3 variables per stance
+// leg; its full problem has 12), f(std::integral_constant<int, 0>()) (n at run time) otherwise:
+// the loops of f over n unroll completely at those sizes (KILOLOOP_UNROLL).
+template <class F>
+decltype(auto) with_fixed_size(int n, F&& f) {
+  switch (n) {
+    case 3: return f(std::integral_constant<int, 3>());
+    case 6: return f(std::integral_constant<int, 6>());
+    case 9: return f(std::integral_constant<int, 9>());
+    case 12: return f(std::integral_constant<int, 12>());
+    default: return f(std::integral_constant<int, 0>());
+  }
+}
+
 // A new normal is linearly dependent on the active ones when its component outside their span,
 // measured in the H^-1 metric, is below this fraction of its length.
 constexpr double kDependentTol = 1e-10;
@@ -277,7 +292,7 @@ void DenseQpSolver::reset_warm_start() noexcept {
 // (absent) and -inf (never met), lb -inf / +inf and ub +inf / -inf likewise. Fills the row norms.
 // The stance-force QP's 12 variables at a compile-time size (its loops unrolled: cholesky_inverse).
 QpStatus DenseQpSolver::check_values(const Problem& p) noexcept {
-  return p.n == 12 ? check_values_of<12>(p) : check_values_of<0>(p);
+  return with_fixed_size(p.n, [&](auto size) { return check_values_of<decltype(size)::value>(p); });
 }
 
 template <int kN>
@@ -408,17 +423,10 @@ bool cholesky_inverse(const double* H, int ldh, int n_runtime, int ld, double* L
 
 bool DenseQpSolver::factorize(const Problem& p) noexcept {
   double* inv_diag = z_.data();  // scratch until the first constraint is added
-  auto run = [&](auto size) {
+  return with_fixed_size(p.n, [&](auto size) {
     return cholesky_inverse<decltype(size)::value>(p.H, p.ldh, p.n, n_max_, L_.data(), J_.data(),
                                                    tmp_.data(), inv_diag);
-  };
-  switch (p.n) {
-    case 3: return run(std::integral_constant<int, 3>());
-    case 6: return run(std::integral_constant<int, 6>());
-    case 9: return run(std::integral_constant<int, 9>());
-    case 12: return run(std::integral_constant<int, 12>());
-    default: return run(std::integral_constant<int, 0>());
-  }
+  });
 }
 
 double DenseQpSolver::x_inf(int n) const noexcept {
@@ -448,7 +456,12 @@ double DenseQpSolver::tolerance(const Problem& p, int c, double x_inf) const noe
 // The inactive inequality or bound with the largest violation, measured as a distance in x
 // (violation / row norm); ties go to the lowest number, so the choice is deterministic.
 int DenseQpSolver::most_violated(const Problem& p) noexcept {
-  const int n = p.n;
+  return with_fixed_size(p.n, [&](auto size) { return most_violated_of<decltype(size)::value>(p); });
+}
+
+template <int kN>
+int DenseQpSolver::most_violated_of(const Problem& p) noexcept {
+  const int n = kN > 0 ? kN : p.n;
   const double* x = x_.data();
   const double xi = x_inf(n), tol = settings_.feasibility_tol;
   int best = -1;
@@ -456,7 +469,7 @@ int DenseQpSolver::most_violated(const Problem& p) noexcept {
   if (p.mi > 0) {
     double* s = s_.data();
     for (int i = 0; i < p.mi; ++i) s[i] = p.d[i];
-    for (int j = 0; j < n; ++j) axpy(s, p.C + j * p.ldc, -x[j], p.mi);
+    KILOLOOP_UNROLL for (int j = 0; j < n; ++j) axpy(s, p.C + j * p.ldc, -x[j], p.mi);
     for (int i = 0; i < p.mi; ++i) {
       const int c = p.me + i;
       if (is_active_[c] || skipped_[c] == epoch_) continue;
@@ -467,7 +480,7 @@ int DenseQpSolver::most_violated(const Problem& p) noexcept {
     }
   }
   if (p.lb) {
-    for (int j = 0; j < n; ++j) {
+    KILOLOOP_UNROLL for (int j = 0; j < n; ++j) {
       const int c = p.lb0() + j;
       const double sj = x[j] - p.lb[j];
       if (sj < -tol * (std::abs(p.lb[j]) + xi) && -sj > best_v && !is_active_[c] &&
@@ -476,7 +489,7 @@ int DenseQpSolver::most_violated(const Problem& p) noexcept {
     }
   }
   if (p.ub) {
-    for (int j = 0; j < n; ++j) {
+    KILOLOOP_UNROLL for (int j = 0; j < n; ++j) {
       const int c = p.ub0() + j;
       const double sj = p.ub[j] - x[j];
       if (sj < -tol * (std::abs(p.ub[j]) + xi) && -sj > best_v && !is_active_[c] &&
@@ -849,11 +862,16 @@ void DenseQpSolver::sanitize_result(const Problem& full, QpResult* res) noexcept
 // Every constraint of the full problem met at xf_ to kCheckFactor feasibility tolerances of the
 // size of its terms; a tolerance or residual that is not finite fails.
 bool DenseQpSolver::verified(const Problem& full) noexcept {
-  const int n = full.n;
+  return with_fixed_size(full.n, [&](auto size) { return verified_of<decltype(size)::value>(full); });
+}
+
+template <int kN>
+bool DenseQpSolver::verified_of(const Problem& full) noexcept {
+  const int n = kN > 0 ? kN : full.n;
   const double* x = xf_.data();
   const double tol = kCheckFactor * std::max(settings_.feasibility_tol, kCheckTolFloor);
   double xi = 0.0;
-  for (int j = 0; j < n; ++j) xi = std::max(xi, std::abs(x[j]));
+  KILOLOOP_UNROLL for (int j = 0; j < n; ++j) xi = std::max(xi, std::abs(x[j]));
   for (int i = 0; i < full.me; ++i) {
     const double r = std::abs(row_dot(full.A, full.lda, i, x, n) - full.b[i]);
     const double t = tol * (std::abs(full.b[i]) + norm1_[i] * xi);
@@ -863,14 +881,14 @@ bool DenseQpSolver::verified(const Problem& full) noexcept {
   // rows two at a time.
   double* cx = s_.data();
   for (int i = 0; i < full.mi; ++i) cx[i] = 0.0;
-  for (int j = 0; j < n; ++j) axpy(cx, full.C + j * full.ldc, x[j], full.mi);
+  KILOLOOP_UNROLL for (int j = 0; j < n; ++j) axpy(cx, full.C + j * full.ldc, x[j], full.mi);
   for (int i = 0; i < full.mi; ++i) {
     if (full.d[i] == kInf) continue;  // absent row
     const double r = cx[i] - full.d[i];
     const double t = tol * (std::abs(full.d[i]) + norm1_[full.me + i] * xi);
     if (!(r <= t) || !std::isfinite(t)) return false;
   }
-  for (int j = 0; j < n; ++j) {
+  KILOLOOP_UNROLL for (int j = 0; j < n; ++j) {
     if (full.lb && full.lb[j] != -kInf) {
       const double t = tol * (std::abs(full.lb[j]) + xi);
       if (!(full.lb[j] - x[j] <= t) || !std::isfinite(t)) return false;
