@@ -11,7 +11,7 @@ namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
 // Complete unrolling of the loop that follows where its trip count is a compile-time constant
-// (cholesky_inverse's fixed sizes).
+// (with_fixed_size's sizes).
 #define KILOLOOP_UNROLL _Pragma("GCC unroll 16")
 
 // f(std::integral_constant<int, n>()) at the stance-force QP's sizes (3 variables per stance
@@ -419,6 +419,32 @@ bool cholesky_inverse(const double* H, int ldh, int n_runtime, int ld, double* L
   return true;
 }
 
+// The objective x' H x / 2 + g' x (n = kN, 0: n_runtime), H x left in hx.
+template <int kN>
+double objective_of(const double* H, int ldh, const double* g, const double* x, int n_runtime,
+                    double* hx) noexcept {
+  const int n = kN > 0 ? kN : n_runtime;
+  KILOLOOP_UNROLL for (int i = 0; i < n; ++i) hx[i] = 0.0;
+  KILOLOOP_UNROLL for (int j = 0; j < n; ++j) axpy(hx, H + j * ldh, x[j], n);
+  return 0.5 * dot(x, hx, n) + dot(g, x, n);
+}
+
+// The unconstrained minimum x = -H^-1 g = -J J' g (J upper triangular), t = J' g as scratch.
+template <int kN>
+void unconstrained_minimum_of(const double* J, int ld, const double* g, int n_runtime, double* t,
+                              double* x) noexcept {
+  const int n = kN > 0 ? kN : n_runtime;
+  KILOLOOP_UNROLL for (int k = 0; k < n; ++k) t[k] = dot(J + k * ld, g, k + 1);
+  KILOLOOP_UNROLL for (int i = 0; i < n; ++i) x[i] = 0.0;
+  KILOLOOP_UNROLL for (int k = 0; k < n; ++k) axpy(x, J + k * ld, -t[k], k + 1);
+}
+
+double objective(const double* H, int ldh, const double* g, const double* x, int n, double* hx) noexcept {
+  return with_fixed_size(n, [&](auto size) {
+    return objective_of<decltype(size)::value>(H, ldh, g, x, n, hx);
+  });
+}
+
 }  // namespace
 
 bool DenseQpSolver::factorize(const Problem& p) noexcept {
@@ -652,9 +678,7 @@ void DenseQpSolver::finish(const Problem& full, const Problem& p, QpResult* res)
   double* x = xf_.data();
   for (int j = 0; j < n; ++j) x[j] = !reduced ? x_[j] : reduced_index_[j] < 0 ? full.lb[j] : x_[reduced_index_[j]];
   double* hx = tmp_.data();
-  for (int i = 0; i < n; ++i) hx[i] = 0.0;
-  for (int j = 0; j < n; ++j) axpy(hx, full.H + j * full.ldh, x[j], n);
-  res->objective = 0.5 * dot(x, hx, n) + dot(full.g, x, n);
+  res->objective = objective(full.H, full.ldh, full.g, x, n, hx);
   res->iterations = iterations_;
   // Map the >= form multipliers u onto H x + g + A' lambda + C' mu + z = 0.
   eq_mult_.head(p.me).setZero();
@@ -770,16 +794,9 @@ QpResult DenseQpSolver::solve(const MatRef& H, const VecRef& g, const MatRef& A_
   iterations_ = 0;
   ++epoch_;
 
-  // Unconstrained minimum x = -H^-1 g = -J J' g (J upper triangular here).
-  {
-    const int ld = n_max_;
-    const double* J = J_.data();
-    double* t = tmp_.data();
-    double* xs = x_.data();
-    for (int k = 0; k < p.n; ++k) t[k] = dot(J + k * ld, p.g, k + 1);
-    for (int i = 0; i < p.n; ++i) xs[i] = 0.0;
-    for (int k = 0; k < p.n; ++k) axpy(xs, J + k * ld, -t[k], k + 1);
-  }
+  with_fixed_size(p.n, [&](auto size) {
+    unconstrained_minimum_of<decltype(size)::value>(J_.data(), n_max_, p.g, p.n, tmp_.data(), x_.data());
+  });
 
   auto stop = [&](AddResult r) {
     res.status = r == AddResult::kInfeasible ? QpStatus::kInfeasible : QpStatus::kIterationLimit;
@@ -850,11 +867,7 @@ void DenseQpSolver::sanitize_result(const Problem& full, QpResult* res) noexcept
   }
   if (!std::isfinite(res->objective) || !x_finite) {
     // Objective of the x actually returned; 0 if even that overflows.
-    const double* xv = xf_.data();
-    double* hx = tmp_.data();
-    for (int i = 0; i < n; ++i) hx[i] = 0.0;
-    for (int j = 0; j < n; ++j) axpy(hx, full.H + j * full.ldh, xv[j], n);
-    const double f = 0.5 * dot(xv, hx, n) + dot(full.g, xv, n);
+    const double f = objective(full.H, full.ldh, full.g, xf_.data(), n, tmp_.data());
     res->objective = std::isfinite(f) ? f : 0.0;
   }
 }
