@@ -3,6 +3,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 
 #include <kdl/chain.hpp>
 #include <kdl/chainfksolverpos_recursive.hpp>
@@ -27,6 +29,14 @@ double axis_sign(const Eigen::Vector3d& a, const Eigen::Vector3d& e) {
 Eigen::Vector3d foot_point(const KDL::Frame& T, const Eigen::Vector3d& offset) {
   if ((offset.array() == 0.0).all()) return to_eigen(T.p);
   return to_eigen(T * KDL::Vector(offset.x(), offset.y(), offset.z()));
+}
+
+// a and b bit for bit (+0 and -0 differ: their sines do).
+bool same_double(double a, double b) {
+  std::uint64_t ua, ub;
+  std::memcpy(&ua, &a, sizeof a);
+  std::memcpy(&ub, &b, sizeof b);
+  return ua == ub;
 }
 
 }  // namespace
@@ -184,12 +194,17 @@ Status LegKinematics::inverse(const Eigen::Vector3d& foot, Eigen::Vector3d& q) c
                     (2.0 * g_.l_thigh * g_.l_shank);
   if (c2 > 1.0 || c2 < -1.0) return Status::kUnreachable;
   const double beta = g_.knee == KneeDirection::kForward ? std::acos(c2) : -std::acos(c2);
-  const double a = g_.l_thigh + g_.l_shank * std::cos(beta), b = g_.l_shank * std::sin(beta);
+  const double sin_beta = std::sin(beta), cos_beta = std::cos(beta);
+  const double a = g_.l_thigh + g_.l_shank * cos_beta, b = g_.l_shank * sin_beta;
   const double p1 = std::atan2(-x, -z) - std::atan2(b, a);
   // Back to joint angles: internal q1 = p1 - a_thigh, q2 = beta - (a_shank - a_thigh), each
-  // wrapped into (-pi, pi], then the axis signs.
+  // wrapped into (-pi, pi], then the axis signs. Where q2 is beta itself, the same double (a
+  // shank in line with the thigh at q = 0: a_shank == a_thigh, most legs), its sine and cosine
+  // are beta's, already at hand.
   auto wrap = [](double v) { return std::atan2(std::sin(v), std::cos(v)); };
-  const Eigen::Vector3d internal(wrap(q0), wrap(p1 - g_.a_thigh), wrap(beta - g_.a_shank + g_.a_thigh));
+  const double knee = beta - g_.a_shank + g_.a_thigh;
+  const double knee_wrapped = same_double(knee, beta) ? std::atan2(sin_beta, cos_beta) : wrap(knee);
+  const Eigen::Vector3d internal(wrap(q0), wrap(p1 - g_.a_thigh), knee_wrapped);
   const Eigen::Vector3d sol = internal.cwiseProduct(g_.sign);
   if ((sol.array() < g_.lower.array()).any() || (sol.array() > g_.upper.array()).any())
     return Status::kUnreachable;
