@@ -135,6 +135,7 @@ LegKinematics::Angles LegKinematics::angles(const Eigen::Vector3d& qj) const noe
   const Eigen::Vector3d q = qj.cwiseProduct(g_.sign);
   const double p1 = q[1] + g_.a_thigh, p12 = q[1] + q[2] + g_.a_shank;
   Angles a;
+  a.q0 = q[0], a.p1 = p1;
   a.s1 = std::sin(p1), a.c1 = std::cos(p1), a.s12 = std::sin(p12), a.c12 = std::cos(p12);
   a.s0 = std::sin(q[0]), a.c0 = std::cos(q[0]);
   // In the leg plane (abduction frame): x forward, z down the leg.
@@ -172,11 +173,18 @@ Eigen::Matrix3d LegKinematics::jacobian(const Eigen::Vector3d& q) const noexcept
 }
 
 void LegKinematics::foot_and_jacobian(const Eigen::Vector3d& q, Eigen::Vector3d* foot,
-                                      Eigen::Matrix3d* jacobian, Eigen::Vector3d* pitch_axis) const noexcept {
+                                      Eigen::Matrix3d* jacobian, Trig* trig) const noexcept {
   const Angles a = angles(q);
   *foot = foot_from(a);
   *jacobian = jacobian_from(a);
-  if (pitch_axis) *pitch_axis = Eigen::Vector3d(0.0, a.c0, a.s0);
+  if (!trig) return;
+  trig->pitch_axis = Eigen::Vector3d(0.0, a.c0, a.s0);
+  const double set_angle[2] = {a.q0, a.p1}, set_cos[2] = {a.c0, a.c1}, set_sin[2] = {a.s0, a.s1};
+  for (int j = 0; j < 3; ++j) {
+    const bool in_set = j < 2 && same_double(set_angle[j], q[j]);
+    trig->cos_q[j] = in_set ? set_cos[j] : std::cos(q[j]);
+    trig->sin_q[j] = in_set ? set_sin[j] : std::sin(q[j]);
+  }
 }
 
 Status LegKinematics::inverse(const Eigen::Vector3d& foot, Eigen::Vector3d& q) const noexcept {

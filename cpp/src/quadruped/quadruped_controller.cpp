@@ -501,12 +501,12 @@ void QuadrupedController::leg_kinematics(const QuadrupedInput& in) noexcept {
   else if (estimator_.initialised()) k.q_prior = estimator_.orientation();
   else k.q_prior = estimator_.initial_orientation(in.accel, k.q_imu);
   const Eigen::Vector3d g_trunk = k.q_prior.conjugate() * Eigen::Vector3d(0, 0, -kGravity);
-  std::array<Eigen::Vector3d, kLegs> pitch_axis;  // the shanks turn about it (trunk frame)
+  std::array<LegKinematics::Trig, kLegs> trig;  // the joints' sines and cosines, once
   for (int i = 0; i < kLegs; ++i) {
     const Eigen::Vector3d q = in.q.segment<3>(3 * i);
-    legs_[i].foot_and_jacobian(q, &k.meas[i].r, &k.J[i], &pitch_axis[i]);
+    legs_[i].foot_and_jacobian(q, &k.meas[i].r, &k.J[i], &trig[i]);
     k.meas[i].v_rel = k.J[i] * in.qd.segment<3>(3 * i);
-    k.tau_gravity[i] = leg_gravity_[i].torque(q, g_trunk);
+    k.tau_gravity[i] = leg_gravity_[i].torque(q, g_trunk, &trig[i].cos_q, &trig[i].sin_q);
   }
   // A spherical foot rolls: its contact point (radius below the centre, along the ground normal)
   // stands still, not its centre. Add the rolling term to what the estimator takes as the
@@ -515,8 +515,8 @@ void QuadrupedController::leg_kinematics(const QuadrupedInput& in) noexcept {
   for (int i = 0; i < kLegs; ++i) {
     const Eigen::Vector3d& sg = legs_[i].geometry().sign;
     const double pitch_rate = sg[1] * in.qd[3 * i + 1] + sg[2] * in.qd[3 * i + 2];
-    const Eigen::Vector3d w_shank(sg[0] * in.qd[3 * i], pitch_axis[i].y() * pitch_rate,
-                                  pitch_axis[i].z() * pitch_rate);
+    const Eigen::Vector3d& axis = trig[i].pitch_axis;  // the shank turns about it
+    const Eigen::Vector3d w_shank(sg[0] * in.qd[3 * i], axis.y() * pitch_rate, axis.z() * pitch_rate);
     k.meas[i].v_rel += (w_shank + in.gyro - estimator_.gyro_bias()).cross(c);
   }
   if (!estimator_.initialised()) {
