@@ -116,7 +116,7 @@ inline double row_dot(const double* M, int ld, int i, const double* x, int n) {
 // (all entries below ~1e-154) is recomputed scaled by the row's largest entry: the norm itself is
 // representable, and a 0 or inf there would make a violated row look infinitely or not at all
 // violated.
-// kN > 0: n = kN, fixed at compile time (see cholesky_inverse).
+// kN > 0: n = kN, fixed at compile time (with_fixed_size).
 template <int kN = 0>
 bool row_norms(const double* M, int ld, int m, int n_runtime, double* norm1, double* norm2) {
   const int n = kN > 0 ? kN : n_runtime;
@@ -290,7 +290,7 @@ void DenseQpSolver::reset_warm_start() noexcept {
 
 // Finite H, g, A_eq, b_eq, C and row sums that do not overflow; H symmetric; d may hold +inf
 // (absent) and -inf (never met), lb -inf / +inf and ub +inf / -inf likewise. Fills the row norms.
-// The stance-force QP's 12 variables at a compile-time size (its loops unrolled: cholesky_inverse).
+// At with_fixed_size's sizes its loops over the variables unroll (the same checks, in the same order).
 QpStatus DenseQpSolver::check_values(const Problem& p) noexcept {
   return with_fixed_size(p.n, [&](auto size) { return check_values_of<decltype(size)::value>(p); });
 }
