@@ -147,13 +147,17 @@ Status ChainRne::configure(const KDL::Chain& chain, ChainRne* out, std::string* 
 // pos = origin + R_joint tip_pos (revolute, through the Rodrigues split), or a translation along
 // the axis (prismatic).
 void ChainRne::pose(const Segment& s, double q, State& x) const noexcept {
+  if (s.kind == Kind::kRevolute) pose(s, q, std::cos(q), std::sin(q), x);
+  else pose(s, q, 1.0, 0.0, x);
+}
+
+void ChainRne::pose(const Segment& s, double q, double c, double sn, State& x) const noexcept {
   switch (s.kind) {
     case Kind::kFixed:
       x.rot = s.tip_rot;
       x.pos = s.tip_pos;
       break;
     case Kind::kRevolute: {
-      const double c = std::cos(q), sn = std::sin(q);
       x.rot = s.rot_0 + c * s.rot_c + sn * s.rot_s;
       x.pos = s.pos_0 + c * s.pos_c + sn * s.pos_s;
       break;
@@ -214,12 +218,15 @@ void ChainRne::inverse_dynamics(const double* q, const double* qd, const double*
   backward(tau, qdd, root_wrench);
 }
 
-void ChainRne::gravity_torque(const double* q, const Eigen::Vector3d& gravity, double* tau) noexcept {
+void ChainRne::gravity_torque(const double* q, const Eigen::Vector3d& gravity, double* tau,
+                              const double* cos_q, const double* sin_q) noexcept {
   Eigen::Vector3d a_p = -gravity;  // no velocity and no angular acceleration anywhere
   for (size_t i = 0; i < segments_.size(); ++i) {
     const Segment& s = segments_[i];
     State& x = state_[i];
-    pose(s, s.kind != Kind::kFixed ? q[s.joint] : 0.0, x);
+    const double qi = s.kind != Kind::kFixed ? q[s.joint] : 0.0;
+    if (cos_q && s.kind == Kind::kRevolute) pose(s, qi, cos_q[s.joint], sin_q[s.joint], x);
+    else pose(s, qi, x);
     x.a.noalias() = x.rot.transpose() * a_p;
     if (s.has_inertia) {
       x.f = s.mass * x.a;

@@ -16,9 +16,11 @@ Status LegGravity::configure(const RobotModel& model, const std::string& trunk, 
   return Status::kOk;
 }
 
-Eigen::Vector3d LegGravity::torque(const Eigen::Vector3d& q, const Eigen::Vector3d& gravity_trunk) noexcept {
+Eigen::Vector3d LegGravity::torque(const Eigen::Vector3d& q, const Eigen::Vector3d& gravity_trunk,
+                                   const Eigen::Vector3d* cos_q, const Eigen::Vector3d* sin_q) noexcept {
   Eigen::Vector3d tau;
-  rne_.gravity_torque(q.data(), gravity_trunk, tau.data());
+  rne_.gravity_torque(q.data(), gravity_trunk, tau.data(), cos_q ? cos_q->data() : nullptr,
+                      sin_q ? sin_q->data() : nullptr);
   return tau;
 }
 

@@ -3,6 +3,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 
 #include <kdl/chain.hpp>
 #include <kdl/chainfksolverpos_recursive.hpp>
@@ -27,6 +29,14 @@ double axis_sign(const Eigen::Vector3d& a, const Eigen::Vector3d& e) {
 Eigen::Vector3d foot_point(const KDL::Frame& T, const Eigen::Vector3d& offset) {
   if ((offset.array() == 0.0).all()) return to_eigen(T.p);
   return to_eigen(T * KDL::Vector(offset.x(), offset.y(), offset.z()));
+}
+
+// a and b bit for bit (+0 and -0 differ: their sines do).
+bool same_double(double a, double b) {
+  std::uint64_t ua, ub;
+  std::memcpy(&ua, &a, sizeof a);
+  std::memcpy(&ub, &b, sizeof b);
+  return ua == ub;
 }
 
 }  // namespace
@@ -125,6 +135,7 @@ LegKinematics::Angles LegKinematics::angles(const Eigen::Vector3d& qj) const noe
   const Eigen::Vector3d q = qj.cwiseProduct(g_.sign);
   const double p1 = q[1] + g_.a_thigh, p12 = q[1] + q[2] + g_.a_shank;
   Angles a;
+  a.q0 = q[0], a.p1 = p1;
   a.s1 = std::sin(p1), a.c1 = std::cos(p1), a.s12 = std::sin(p12), a.c12 = std::cos(p12);
   a.s0 = std::sin(q[0]), a.c0 = std::cos(q[0]);
   // In the leg plane (abduction frame): x forward, z down the leg.
@@ -162,10 +173,18 @@ Eigen::Matrix3d LegKinematics::jacobian(const Eigen::Vector3d& q) const noexcept
 }
 
 void LegKinematics::foot_and_jacobian(const Eigen::Vector3d& q, Eigen::Vector3d* foot,
-                                      Eigen::Matrix3d* jacobian) const noexcept {
+                                      Eigen::Matrix3d* jacobian, Trig* trig) const noexcept {
   const Angles a = angles(q);
   *foot = foot_from(a);
   *jacobian = jacobian_from(a);
+  if (!trig) return;
+  trig->pitch_axis = Eigen::Vector3d(0.0, a.c0, a.s0);
+  const double set_angle[2] = {a.q0, a.p1}, set_cos[2] = {a.c0, a.c1}, set_sin[2] = {a.s0, a.s1};
+  for (int j = 0; j < 3; ++j) {
+    const bool in_set = j < 2 && same_double(set_angle[j], q[j]);
+    trig->cos_q[j] = in_set ? set_cos[j] : std::cos(q[j]);
+    trig->sin_q[j] = in_set ? set_sin[j] : std::sin(q[j]);
+  }
 }
 
 Status LegKinematics::inverse(const Eigen::Vector3d& foot, Eigen::Vector3d& q) const noexcept {
@@ -183,12 +202,17 @@ Status LegKinematics::inverse(const Eigen::Vector3d& foot, Eigen::Vector3d& q) c
                     (2.0 * g_.l_thigh * g_.l_shank);
   if (c2 > 1.0 || c2 < -1.0) return Status::kUnreachable;
   const double beta = g_.knee == KneeDirection::kForward ? std::acos(c2) : -std::acos(c2);
-  const double a = g_.l_thigh + g_.l_shank * std::cos(beta), b = g_.l_shank * std::sin(beta);
+  const double sin_beta = std::sin(beta), cos_beta = std::cos(beta);
+  const double a = g_.l_thigh + g_.l_shank * cos_beta, b = g_.l_shank * sin_beta;
   const double p1 = std::atan2(-x, -z) - std::atan2(b, a);
   // Back to joint angles: internal q1 = p1 - a_thigh, q2 = beta - (a_shank - a_thigh), each
-  // wrapped into (-pi, pi], then the axis signs.
+  // wrapped into (-pi, pi], then the axis signs. Where q2 is beta itself, the same double (a
+  // shank in line with the thigh at q = 0: a_shank == a_thigh, most legs), its sine and cosine
+  // are beta's, already at hand.
   auto wrap = [](double v) { return std::atan2(std::sin(v), std::cos(v)); };
-  const Eigen::Vector3d internal(wrap(q0), wrap(p1 - g_.a_thigh), wrap(beta - g_.a_shank + g_.a_thigh));
+  const double knee = beta - g_.a_shank + g_.a_thigh;
+  const double knee_wrapped = same_double(knee, beta) ? std::atan2(sin_beta, cos_beta) : wrap(knee);
+  const Eigen::Vector3d internal(wrap(q0), wrap(p1 - g_.a_thigh), knee_wrapped);
   const Eigen::Vector3d sol = internal.cwiseProduct(g_.sign);
   if ((sol.array() < g_.lower.array()).any() || (sol.array() > g_.upper.array()).any())
     return Status::kUnreachable;

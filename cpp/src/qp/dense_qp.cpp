@@ -4,11 +4,30 @@
 #include <cfloat>
 #include <cmath>
 #include <limits>
+#include <type_traits>
 
 namespace kiloloop::qp {
 namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
+// Complete unrolling of the loop that follows where its trip count is a compile-time constant
+// (with_fixed_size's sizes).
+#define KILOLOOP_UNROLL _Pragma("GCC unroll 16")
+
+// f(std::integral_constant<int, n>()) at the stance-force QP's sizes (3 variables per stance
+// leg; its full problem has 12), f(std::integral_constant<int, 0>()) (n at run time) otherwise:
+// the loops of f over n unroll completely at those sizes (KILOLOOP_UNROLL).
+template <class F>
+decltype(auto) with_fixed_size(int n, F&& f) {
+  switch (n) {
+    case 3: return f(std::integral_constant<int, 3>());
+    case 6: return f(std::integral_constant<int, 6>());
+    case 9: return f(std::integral_constant<int, 9>());
+    case 12: return f(std::integral_constant<int, 12>());
+    default: return f(std::integral_constant<int, 0>());
+  }
+}
+
 // A new normal is linearly dependent on the active ones when its component outside their span,
 // measured in the H^-1 metric, is below this fraction of its length.
 constexpr double kDependentTol = 1e-10;
@@ -97,23 +116,37 @@ inline double row_dot(const double* M, int ld, int i, const double* x, int n) {
 // (all entries below ~1e-154) is recomputed scaled by the row's largest entry: the norm itself is
 // representable, and a 0 or inf there would make a violated row look infinitely or not at all
 // violated.
-bool row_norms(const double* M, int ld, int m, int n, double* norm1, double* norm2) {
-  for (int i = 0; i < m; ++i) norm1[i] = norm2[i] = 0.0;
-  for (int j = 0; j < n; ++j) {
-    const double* col = M + j * ld;
-    int i = 0;
-    for (; i + 1 < m; i += 2) {  // pairs: 2-wide SIMD at -O2 (see rotate)
-      const double v0 = std::abs(col[i]), v1 = std::abs(col[i + 1]);
-      norm1[i] += v0;
-      norm1[i + 1] += v1;
-      norm2[i] += v0 * v0;
-      norm2[i + 1] += v1 * v1;
+// kN > 0: n = kN, fixed at compile time (with_fixed_size).
+template <int kN = 0>
+bool row_norms(const double* M, int ld, int m, int n_runtime, double* norm1, double* norm2) {
+  const int n = kN > 0 ? kN : n_runtime;
+  // Each row's sums over the columns in order (j = 0, 1, ...), two rows at a time in registers
+  // (2-wide SIMD at -O2, see rotate). Summed in place, norm1 and norm2 were stored and loaded
+  // again for every entry: the compiler cannot rule out that they alias M.
+  int i = 0;
+  for (; i + 1 < m; i += 2) {
+    double s1 = 0.0, t1 = 0.0, s2 = 0.0, t2 = 0.0;  // rows i, i + 1: 1-norm, sum of squares
+    KILOLOOP_UNROLL for (int j = 0; j < n; ++j) {
+      const double v0 = std::abs(M[i + j * ld]), v1 = std::abs(M[i + 1 + j * ld]);
+      s1 += v0;
+      t1 += v1;
+      s2 += v0 * v0;
+      t2 += v1 * v1;
     }
-    if (i < m) {
-      const double v = std::abs(col[i]);
-      norm1[i] += v;
-      norm2[i] += v * v;
+    norm1[i] = s1;
+    norm1[i + 1] = t1;
+    norm2[i] = s2;
+    norm2[i + 1] = t2;
+  }
+  if (i < m) {
+    double s1 = 0.0, s2 = 0.0;
+    KILOLOOP_UNROLL for (int j = 0; j < n; ++j) {
+      const double v = std::abs(M[i + j * ld]);
+      s1 += v;
+      s2 += v * v;
     }
+    norm1[i] = s1;
+    norm2[i] = s2;
   }
   for (int i = 0; i < m; ++i) {
     if (!std::isfinite(norm1[i])) return false;  // |NaN| and |inf| propagate into the sum
@@ -134,16 +167,20 @@ bool row_norms(const double* M, int ld, int m, int n, double* norm1, double* nor
   return true;
 }
 
-bool all_finite(const double* v, int n) {
+template <int kN = 0>
+bool all_finite(const double* v, int n_runtime) {
+  const int n = kN > 0 ? kN : n_runtime;
   bool finite = true;
-  for (int i = 0; i < n; ++i) finite &= v[i] - v[i] == 0.0;  // false for NaN and inf
+  KILOLOOP_UNROLL for (int i = 0; i < n; ++i) finite &= v[i] - v[i] == 0.0;  // false for NaN and inf
   return finite;
 }
 
 // Bounds: NaN is bad data; an infinity of the `absent` sign drops the bound, one of the other
 // sign can never be met.
-QpStatus check_bounds(const double* v, int n, double absent) {
-  for (int i = 0; i < n; ++i) {
+template <int kN = 0>
+QpStatus check_bounds(const double* v, int n_runtime, double absent) {
+  const int n = kN > 0 ? kN : n_runtime;
+  KILOLOOP_UNROLL for (int i = 0; i < n; ++i) {
     if (std::isnan(v[i])) return QpStatus::kBadInput;
     if (std::isinf(v[i]) && v[i] != absent) return QpStatus::kInfeasible;
   }
@@ -253,29 +290,35 @@ void DenseQpSolver::reset_warm_start() noexcept {
 
 // Finite H, g, A_eq, b_eq, C and row sums that do not overflow; H symmetric; d may hold +inf
 // (absent) and -inf (never met), lb -inf / +inf and ub +inf / -inf likewise. Fills the row norms.
+// At with_fixed_size's sizes its loops over the variables unroll (the same checks, in the same order).
 QpStatus DenseQpSolver::check_values(const Problem& p) noexcept {
-  const int n = p.n;
+  return with_fixed_size(p.n, [&](auto size) { return check_values_of<decltype(size)::value>(p); });
+}
+
+template <int kN>
+QpStatus DenseQpSolver::check_values_of(const Problem& p) noexcept {
+  const int n = kN > 0 ? kN : p.n;
   // H finite: its diagonal here; an off-diagonal entry in the symmetry test below, whose
   // tolerance is finite once the diagonal is: an infinite or NaN entry makes the difference of
   // the pair infinite or NaN, which fails it (one pass over H instead of two).
-  for (int j = 0; j < n; ++j)
+  KILOLOOP_UNROLL for (int j = 0; j < n; ++j)
     if (!(p.H[j + j * p.ldh] - p.H[j + j * p.ldh] == 0.0)) return QpStatus::kBadInput;
   // H symmetric to a fraction of its largest diagonal entry, which bounds every entry of a
   // positive definite matrix.
   double max_diag = 0.0;
-  for (int j = 0; j < n; ++j) max_diag = std::max(max_diag, magnitude(p.H[j + j * p.ldh]));
+  KILOLOOP_UNROLL for (int j = 0; j < n; ++j) max_diag = std::max(max_diag, magnitude(p.H[j + j * p.ldh]));
   const double sym_tol = kSymmetryTol * max_diag;
-  for (int j = 0; j < n; ++j)
-    for (int i = j + 1; i < n; ++i)
+  KILOLOOP_UNROLL for (int j = 0; j < n; ++j)
+    KILOLOOP_UNROLL for (int i = j + 1; i < n; ++i)
       if (!(std::abs(p.H[i + j * p.ldh] - p.H[j + i * p.ldh]) <= sym_tol)) return QpStatus::kBadInput;
-  if (!all_finite(p.g, n) || !all_finite(p.b, p.me)) return QpStatus::kBadInput;
-  if (!row_norms(p.A, p.lda, p.me, n, norm1_.data(), norm2_.data())) return QpStatus::kBadInput;
-  if (!row_norms(p.C, p.ldc, p.mi, n, norm1_.data() + p.me, norm2_.data() + p.me))
+  if (!all_finite<kN>(p.g, n) || !all_finite(p.b, p.me)) return QpStatus::kBadInput;
+  if (!row_norms<kN>(p.A, p.lda, p.me, n, norm1_.data(), norm2_.data())) return QpStatus::kBadInput;
+  if (!row_norms<kN>(p.C, p.ldc, p.mi, n, norm1_.data() + p.me, norm2_.data() + p.me))
     return QpStatus::kBadInput;
   // NaN anywhere is bad data before an impossible bound is infeasible.
   const QpStatus sd = check_bounds(p.d, p.mi, kInf);
-  const QpStatus sl = p.lb ? check_bounds(p.lb, n, -kInf) : QpStatus::kOptimal;
-  const QpStatus su = p.ub ? check_bounds(p.ub, n, kInf) : QpStatus::kOptimal;
+  const QpStatus sl = p.lb ? check_bounds<kN>(p.lb, n, -kInf) : QpStatus::kOptimal;
+  const QpStatus su = p.ub ? check_bounds<kN>(p.ub, n, kInf) : QpStatus::kOptimal;
   if (sd == QpStatus::kBadInput || sl == QpStatus::kBadInput || su == QpStatus::kBadInput)
     return QpStatus::kBadInput;
   if (sd != QpStatus::kOptimal || sl != QpStatus::kOptimal || su != QpStatus::kOptimal)
@@ -326,50 +369,90 @@ DenseQpSolver::Problem DenseQpSolver::eliminate_fixed(const Problem& f) noexcept
   return Problem{H, ld, g, A, lda, b, C, ldc, d, lb, ub, nr, f.me, f.mi};
 }
 
-// H = L L' (left-looking, column by column), then J = L^-T, upper triangular. Divisions are done
-// once per diagonal entry: dividing inside the substitutions puts one on every step of a serial
-// dependency chain.
-bool DenseQpSolver::factorize(const Problem& p) noexcept {
-  const int n = p.n, ld = n_max_;
-  double* L = L_.data();
-  double* J = J_.data();
-  double* w = tmp_.data();
-  double* inv_diag = z_.data();  // scratch until the first constraint is added
+namespace {
+
+// H = L L' (left-looking, column by column), then J = L^-T, upper triangular, for n = kN (a
+// compile-time size) or, with kN = 0, n = n_runtime. The fixed sizes are the stance-force QP's (3
+// per stance leg): there GCC unrolls every loop below completely (the pragmas; at -O2 it unrolls
+// none of them otherwise), the same operations in the same order without the loop and tail
+// overhead that outweighs the arithmetic at these sizes (callgrind, alone: n = 12 7.1k -> 3.7k
+// instructions, n = 6 1.7k -> 0.7k). Divisions are done once per diagonal entry: dividing inside
+// the substitutions puts one on every step of a serial dependency chain.
+template <int kN>
+bool cholesky_inverse(const double* H, int ldh, int n_runtime, int ld, double* L, double* J,
+                      double* w, double* inv_diag) noexcept {
+  const int n = kN > 0 ? kN : n_runtime;
   // Diagonal entries below DBL_MIN count as 0 (a denormal H is numerically zero), and no pivot
   // may be below DBL_MIN: 1/sqrt of it would overflow J and x.
   double max_diag = 0.0;
-  for (int j = 0; j < n; ++j) max_diag = std::max(max_diag, p.H[j + j * p.ldh]);
+  KILOLOOP_UNROLL for (int j = 0; j < n; ++j) max_diag = std::max(max_diag, H[j + j * ldh]);
   if (!(max_diag >= DBL_MIN)) return false;
   const double min_pivot = std::max(kPivotTol * max_diag, DBL_MIN);
-  for (int j = 0; j < n; ++j) {
+  KILOLOOP_UNROLL for (int j = 0; j < n; ++j) {
     // w = H(j:n, j) - L(j:n, 0:j) L(j, 0:j)'
-    for (int i = j; i < n; ++i) w[i] = p.H[i + j * p.ldh];
-    for (int k = 0; k < j; ++k) axpy(w + j, L + k * ld + j, -L[j + k * ld], n - j);
+    KILOLOOP_UNROLL for (int i = j; i < n; ++i) w[i] = H[i + j * ldh];
+    KILOLOOP_UNROLL for (int k = 0; k < j; ++k) axpy(w + j, L + k * ld + j, -L[j + k * ld], n - j);
     if (!(w[j] > min_pivot)) return false;
     const double ljj = std::sqrt(w[j]);
     const double inv = 1.0 / ljj;
     inv_diag[j] = inv;
     double* lj = L + j * ld;
     lj[j] = ljj;
-    for (int i = j + 1; i < n; ++i) lj[i] = w[i] * inv;
+    KILOLOOP_UNROLL for (int i = j + 1; i < n; ++i) lj[i] = w[i] * inv;
   }
   // J = L^-T from J' L = I: J(i, k) = -(sum_{l=i+1..k} J(l, k) L(l, i)) / L(i, i), row by row from
   // the bottom. The dot products of one row are independent of each other (they read rows
   // finished before), which keeps the pipeline full; column by column they would form one long
   // dependency chain.
-  for (int k = 0; k < n; ++k) {
+  KILOLOOP_UNROLL for (int k = 0; k < n; ++k) {
     double* jk = J + k * ld;
     jk[k] = inv_diag[k];
-    for (int i = k + 1; i < n; ++i) jk[i] = 0.0;
+    KILOLOOP_UNROLL for (int i = k + 1; i < n; ++i) jk[i] = 0.0;
   }
-  for (int i = n - 2; i >= 0; --i) {
+  KILOLOOP_UNROLL for (int i = n - 2; i >= 0; --i) {
     const double* li = L + i * ld;
-    for (int k = i + 1; k < n; ++k) {
+    KILOLOOP_UNROLL for (int k = i + 1; k < n; ++k) {
       const double* jk = J + k * ld;
       J[i + k * ld] = -dot(jk + i + 1, li + i + 1, k - i) * inv_diag[i];
     }
   }
   return true;
+}
+
+// The objective x' H x / 2 + g' x (n = kN, 0: n_runtime), H x left in hx.
+template <int kN>
+double objective_of(const double* H, int ldh, const double* g, const double* x, int n_runtime,
+                    double* hx) noexcept {
+  const int n = kN > 0 ? kN : n_runtime;
+  KILOLOOP_UNROLL for (int i = 0; i < n; ++i) hx[i] = 0.0;
+  KILOLOOP_UNROLL for (int j = 0; j < n; ++j) axpy(hx, H + j * ldh, x[j], n);
+  return 0.5 * dot(x, hx, n) + dot(g, x, n);
+}
+
+// The unconstrained minimum x = -H^-1 g = -J J' g (J upper triangular), t = J' g as scratch.
+template <int kN>
+void unconstrained_minimum_of(const double* J, int ld, const double* g, int n_runtime, double* t,
+                              double* x) noexcept {
+  const int n = kN > 0 ? kN : n_runtime;
+  KILOLOOP_UNROLL for (int k = 0; k < n; ++k) t[k] = dot(J + k * ld, g, k + 1);
+  KILOLOOP_UNROLL for (int i = 0; i < n; ++i) x[i] = 0.0;
+  KILOLOOP_UNROLL for (int k = 0; k < n; ++k) axpy(x, J + k * ld, -t[k], k + 1);
+}
+
+double objective(const double* H, int ldh, const double* g, const double* x, int n, double* hx) noexcept {
+  return with_fixed_size(n, [&](auto size) {
+    return objective_of<decltype(size)::value>(H, ldh, g, x, n, hx);
+  });
+}
+
+}  // namespace
+
+bool DenseQpSolver::factorize(const Problem& p) noexcept {
+  double* inv_diag = z_.data();  // scratch until the first constraint is added
+  return with_fixed_size(p.n, [&](auto size) {
+    return cholesky_inverse<decltype(size)::value>(p.H, p.ldh, p.n, n_max_, L_.data(), J_.data(),
+                                                   tmp_.data(), inv_diag);
+  });
 }
 
 double DenseQpSolver::x_inf(int n) const noexcept {
@@ -399,7 +482,12 @@ double DenseQpSolver::tolerance(const Problem& p, int c, double x_inf) const noe
 // The inactive inequality or bound with the largest violation, measured as a distance in x
 // (violation / row norm); ties go to the lowest number, so the choice is deterministic.
 int DenseQpSolver::most_violated(const Problem& p) noexcept {
-  const int n = p.n;
+  return with_fixed_size(p.n, [&](auto size) { return most_violated_of<decltype(size)::value>(p); });
+}
+
+template <int kN>
+int DenseQpSolver::most_violated_of(const Problem& p) noexcept {
+  const int n = kN > 0 ? kN : p.n;
   const double* x = x_.data();
   const double xi = x_inf(n), tol = settings_.feasibility_tol;
   int best = -1;
@@ -407,7 +495,7 @@ int DenseQpSolver::most_violated(const Problem& p) noexcept {
   if (p.mi > 0) {
     double* s = s_.data();
     for (int i = 0; i < p.mi; ++i) s[i] = p.d[i];
-    for (int j = 0; j < n; ++j) axpy(s, p.C + j * p.ldc, -x[j], p.mi);
+    KILOLOOP_UNROLL for (int j = 0; j < n; ++j) axpy(s, p.C + j * p.ldc, -x[j], p.mi);
     for (int i = 0; i < p.mi; ++i) {
       const int c = p.me + i;
       if (is_active_[c] || skipped_[c] == epoch_) continue;
@@ -418,7 +506,7 @@ int DenseQpSolver::most_violated(const Problem& p) noexcept {
     }
   }
   if (p.lb) {
-    for (int j = 0; j < n; ++j) {
+    KILOLOOP_UNROLL for (int j = 0; j < n; ++j) {
       const int c = p.lb0() + j;
       const double sj = x[j] - p.lb[j];
       if (sj < -tol * (std::abs(p.lb[j]) + xi) && -sj > best_v && !is_active_[c] &&
@@ -427,7 +515,7 @@ int DenseQpSolver::most_violated(const Problem& p) noexcept {
     }
   }
   if (p.ub) {
-    for (int j = 0; j < n; ++j) {
+    KILOLOOP_UNROLL for (int j = 0; j < n; ++j) {
       const int c = p.ub0() + j;
       const double sj = p.ub[j] - x[j];
       if (sj < -tol * (std::abs(p.ub[j]) + xi) && -sj > best_v && !is_active_[c] &&
@@ -590,9 +678,7 @@ void DenseQpSolver::finish(const Problem& full, const Problem& p, QpResult* res)
   double* x = xf_.data();
   for (int j = 0; j < n; ++j) x[j] = !reduced ? x_[j] : reduced_index_[j] < 0 ? full.lb[j] : x_[reduced_index_[j]];
   double* hx = tmp_.data();
-  for (int i = 0; i < n; ++i) hx[i] = 0.0;
-  for (int j = 0; j < n; ++j) axpy(hx, full.H + j * full.ldh, x[j], n);
-  res->objective = 0.5 * dot(x, hx, n) + dot(full.g, x, n);
+  res->objective = objective(full.H, full.ldh, full.g, x, n, hx);
   res->iterations = iterations_;
   // Map the >= form multipliers u onto H x + g + A' lambda + C' mu + z = 0.
   eq_mult_.head(p.me).setZero();
@@ -708,16 +794,9 @@ QpResult DenseQpSolver::solve(const MatRef& H, const VecRef& g, const MatRef& A_
   iterations_ = 0;
   ++epoch_;
 
-  // Unconstrained minimum x = -H^-1 g = -J J' g (J upper triangular here).
-  {
-    const int ld = n_max_;
-    const double* J = J_.data();
-    double* t = tmp_.data();
-    double* xs = x_.data();
-    for (int k = 0; k < p.n; ++k) t[k] = dot(J + k * ld, p.g, k + 1);
-    for (int i = 0; i < p.n; ++i) xs[i] = 0.0;
-    for (int k = 0; k < p.n; ++k) axpy(xs, J + k * ld, -t[k], k + 1);
-  }
+  with_fixed_size(p.n, [&](auto size) {
+    unconstrained_minimum_of<decltype(size)::value>(J_.data(), n_max_, p.g, p.n, tmp_.data(), x_.data());
+  });
 
   auto stop = [&](AddResult r) {
     res.status = r == AddResult::kInfeasible ? QpStatus::kInfeasible : QpStatus::kIterationLimit;
@@ -788,11 +867,7 @@ void DenseQpSolver::sanitize_result(const Problem& full, QpResult* res) noexcept
   }
   if (!std::isfinite(res->objective) || !x_finite) {
     // Objective of the x actually returned; 0 if even that overflows.
-    const double* xv = xf_.data();
-    double* hx = tmp_.data();
-    for (int i = 0; i < n; ++i) hx[i] = 0.0;
-    for (int j = 0; j < n; ++j) axpy(hx, full.H + j * full.ldh, xv[j], n);
-    const double f = 0.5 * dot(xv, hx, n) + dot(full.g, xv, n);
+    const double f = objective(full.H, full.ldh, full.g, xf_.data(), n, tmp_.data());
     res->objective = std::isfinite(f) ? f : 0.0;
   }
 }
@@ -800,11 +875,16 @@ void DenseQpSolver::sanitize_result(const Problem& full, QpResult* res) noexcept
 // Every constraint of the full problem met at xf_ to kCheckFactor feasibility tolerances of the
 // size of its terms; a tolerance or residual that is not finite fails.
 bool DenseQpSolver::verified(const Problem& full) noexcept {
-  const int n = full.n;
+  return with_fixed_size(full.n, [&](auto size) { return verified_of<decltype(size)::value>(full); });
+}
+
+template <int kN>
+bool DenseQpSolver::verified_of(const Problem& full) noexcept {
+  const int n = kN > 0 ? kN : full.n;
   const double* x = xf_.data();
   const double tol = kCheckFactor * std::max(settings_.feasibility_tol, kCheckTolFloor);
   double xi = 0.0;
-  for (int j = 0; j < n; ++j) xi = std::max(xi, std::abs(x[j]));
+  KILOLOOP_UNROLL for (int j = 0; j < n; ++j) xi = std::max(xi, std::abs(x[j]));
   for (int i = 0; i < full.me; ++i) {
     const double r = std::abs(row_dot(full.A, full.lda, i, x, n) - full.b[i]);
     const double t = tol * (std::abs(full.b[i]) + norm1_[i] * xi);
@@ -814,14 +894,14 @@ bool DenseQpSolver::verified(const Problem& full) noexcept {
   // rows two at a time.
   double* cx = s_.data();
   for (int i = 0; i < full.mi; ++i) cx[i] = 0.0;
-  for (int j = 0; j < n; ++j) axpy(cx, full.C + j * full.ldc, x[j], full.mi);
+  KILOLOOP_UNROLL for (int j = 0; j < n; ++j) axpy(cx, full.C + j * full.ldc, x[j], full.mi);
   for (int i = 0; i < full.mi; ++i) {
     if (full.d[i] == kInf) continue;  // absent row
     const double r = cx[i] - full.d[i];
     const double t = tol * (std::abs(full.d[i]) + norm1_[full.me + i] * xi);
     if (!(r <= t) || !std::isfinite(t)) return false;
   }
-  for (int j = 0; j < n; ++j) {
+  KILOLOOP_UNROLL for (int j = 0; j < n; ++j) {
     if (full.lb && full.lb[j] != -kInf) {
       const double t = tol * (std::abs(full.lb[j]) + xi);
       if (!(full.lb[j] - x[j] <= t) || !std::isfinite(t)) return false;

@@ -54,6 +54,13 @@ double approach(double from, double to, double step) {
   return from + std::clamp(to - from, -step, step);
 }
 
+// The legs in a set of legs (bit i for leg i).
+std::array<bool, QuadrupedController::kLegs> legs_in(int set) {
+  std::array<bool, QuadrupedController::kLegs> legs{};
+  for (int i = 0; i < QuadrupedController::kLegs; ++i) legs[i] = (set >> i) & 1;
+  return legs;
+}
+
 }  // namespace
 
 Status validate(const QuadrupedConfig& c, std::string* why) {
@@ -287,6 +294,10 @@ Status QuadrupedController::configure(const QuadrupedConfig& config, RobotModelP
       for (auto& a : c.inertia_free_.momentum) a = scale * a;
     }
     cfg.inertia_diag = c.inertia_.diagonal();
+    // distribute_forces' trunk inertia for each set of swinging legs: a constant of the standing
+    // pose, so its 3x3 inverse and products are done here once, not every tick.
+    for (int set = 0; set < (1 << kLegs); ++set)
+      c.inertia_by_swing_set_[set] = c.inertia_free_.rotational(legs_in(set));
   }
   // Stance-force QP: a moment error weighs as the trunk acceleration it causes at the feet
   // against the CoM acceleration of a force error (QuadrupedConfig::force), unless given.
@@ -490,11 +501,12 @@ void QuadrupedController::leg_kinematics(const QuadrupedInput& in) noexcept {
   else if (estimator_.initialised()) k.q_prior = estimator_.orientation();
   else k.q_prior = estimator_.initial_orientation(in.accel, k.q_imu);
   const Eigen::Vector3d g_trunk = k.q_prior.conjugate() * Eigen::Vector3d(0, 0, -kGravity);
+  std::array<LegKinematics::Trig, kLegs> trig;  // the joints' sines and cosines, once
   for (int i = 0; i < kLegs; ++i) {
     const Eigen::Vector3d q = in.q.segment<3>(3 * i);
-    legs_[i].foot_and_jacobian(q, &k.meas[i].r, &k.J[i]);
+    legs_[i].foot_and_jacobian(q, &k.meas[i].r, &k.J[i], &trig[i]);
     k.meas[i].v_rel = k.J[i] * in.qd.segment<3>(3 * i);
-    k.tau_gravity[i] = leg_gravity_[i].torque(q, g_trunk);
+    k.tau_gravity[i] = leg_gravity_[i].torque(q, g_trunk, &trig[i].cos_q, &trig[i].sin_q);
   }
   // A spherical foot rolls: its contact point (radius below the centre, along the ground normal)
   // stands still, not its centre. Add the rolling term to what the estimator takes as the
@@ -502,9 +514,9 @@ void QuadrupedController::leg_kinematics(const QuadrupedInput& in) noexcept {
   const Eigen::Vector3d c = -cfg_.foot_radius * (k.q_prior.conjugate() * estimator_.ground_normal());
   for (int i = 0; i < kLegs; ++i) {
     const Eigen::Vector3d& sg = legs_[i].geometry().sign;
-    const double q0 = sg[0] * in.q[3 * i];
     const double pitch_rate = sg[1] * in.qd[3 * i + 1] + sg[2] * in.qd[3 * i + 2];
-    const Eigen::Vector3d w_shank(sg[0] * in.qd[3 * i], std::cos(q0) * pitch_rate, std::sin(q0) * pitch_rate);
+    const Eigen::Vector3d& axis = trig[i].pitch_axis;  // the shank turns about it
+    const Eigen::Vector3d w_shank(sg[0] * in.qd[3 * i], axis.y() * pitch_rate, axis.z() * pitch_rate);
     k.meas[i].v_rel += (w_shank + in.gyro - estimator_.gyro_bias()).cross(c);
   }
   if (!estimator_.initialised()) {
@@ -837,9 +849,9 @@ void QuadrupedController::distribute_forces(QuadrupedOutput& out) noexcept {
     force += f_.segment<3>(3 * i);
     moment += feet[i].cross(f_.segment<3>(3 * i));
   }
-  std::array<bool, kLegs> swinging{};
-  for (int i = 0; i < kLegs; ++i) swinging[i] = !k.stance[i];
-  const Eigen::Matrix3d I_body = cfg_.predict_legs_free ? inertia_free_.rotational(swinging) : inertia_;
+  int swinging = 0;  // the set of swing legs, bit i for leg i
+  for (int i = 0; i < kLegs; ++i) swinging |= k.stance[i] ? 0 : 1 << i;
+  const Eigen::Matrix3d& I_body = cfg_.predict_legs_free ? inertia_by_swing_set_[swinging] : inertia_;
   const Eigen::Matrix3d I_world = k.R * I_body * k.R.transpose();
   k.accel.head<3>() = force / mass_;
   k.accel.tail<3>() = Ldlt3(I_world).solve(moment);  // Eigen's ldlt() bit for bit (ldlt3.hpp)

@@ -22,8 +22,12 @@ class LegGravity {
   LegGravity& operator=(LegGravity&&) = default;
   static Status configure(const RobotModel& model, const std::string& trunk, const std::string& foot,
                           LegGravity* out, std::string* why);
-  // q: the leg's 3 joints; gravity_trunk: [m/s^2] in the trunk frame. Allocation-free.
-  Eigen::Vector3d torque(const Eigen::Vector3d& q, const Eigen::Vector3d& gravity_trunk) noexcept;
+  // q: the leg's 3 joints; gravity_trunk: [m/s^2] in the trunk frame. Allocation-free. cos_q,
+  // sin_q (optional, both or neither): their cosines and sines, where the caller has them
+  // (LegKinematics::foot_and_jacobian's).
+  Eigen::Vector3d torque(const Eigen::Vector3d& q, const Eigen::Vector3d& gravity_trunk,
+                         const Eigen::Vector3d* cos_q = nullptr,
+                         const Eigen::Vector3d* sin_q = nullptr) noexcept;
 
  private:
   ChainRne rne_;  // owns copies of the chain's constants: no reference to the model's tree

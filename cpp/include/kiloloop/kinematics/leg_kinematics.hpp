@@ -67,10 +67,22 @@ class LegKinematics {
 
   Eigen::Vector3d foot_position(const Eigen::Vector3d& q) const noexcept;  // trunk frame
   Eigen::Matrix3d jacobian(const Eigen::Vector3d& q) const noexcept;       // d foot / d q
+  // What foot_and_jacobian's set of sines and cosines also gives.
+  struct Trig {
+    // The hip pitch and knee axes' direction in the trunk frame: (0, cos, sin) of sign[0] q[0]
+    // (the abduction turns them about x).
+    Eigen::Vector3d pitch_axis;
+    // cos and sin of each q[j] itself (no axis sign, no offset), for a dynamics pass at the same
+    // q (LegGravity): the set's where its angle is that same double (an axis along +x / +y, a
+    // thigh straight below its hip at q = 0: most legs' abduction and hip pitch), computed
+    // otherwise.
+    Eigen::Vector3d cos_q, sin_q;
+  };
   // Both at once, equal to the two calls bit for bit: one set of the joint angles' sines and
-  // cosines (the controller needs both for every leg every tick; three sin/cos pairs a set).
-  void foot_and_jacobian(const Eigen::Vector3d& q, Eigen::Vector3d* foot,
-                         Eigen::Matrix3d* jacobian) const noexcept;
+  // cosines (the controller needs both for every leg every tick; three sin/cos pairs a set);
+  // trig (optional): what else the set gives.
+  void foot_and_jacobian(const Eigen::Vector3d& q, Eigen::Vector3d* foot, Eigen::Matrix3d* jacobian,
+                         Trig* trig = nullptr) const noexcept;
 
   // The solution with the geometry's knee direction. Returns kUnreachable and leaves q untouched
   // when the point is out of reach or the solution breaks a joint limit.
@@ -78,6 +90,7 @@ class LegKinematics {
 
  private:
   struct Angles {  // of the abduction (0), the thigh (1) and thigh + shank (12) in the leg plane
+    double q0, p1;  // [rad] the abduction's and the thigh's angles (sign[0] q[0], sign[1] q[1] + a_thigh)
     double s0, c0, s1, c1, s12, c12;
     double z;  // [m] the foot below the abduction axis in the leg plane
   };

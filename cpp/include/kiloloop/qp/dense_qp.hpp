@@ -114,16 +114,22 @@ class DenseQpSolver {
 
   // kOptimal when the data can be solved, else kBadInput or kInfeasible; fills the row norms.
   QpStatus check_values(const Problem& p) noexcept;
+  template <int kN>
+  QpStatus check_values_of(const Problem& p) noexcept;  // n = kN (0: p.n)
   Problem eliminate_fixed(const Problem& full) noexcept;
   bool factorize(const Problem& p) noexcept;
   double slack(const Problem& p, int c) const noexcept;  // n_c' x - b_c (>= form)
   double tolerance(const Problem& p, int c, double x_inf) const noexcept;
   double x_inf(int n) const noexcept;
   int most_violated(const Problem& p) noexcept;  // -1 when none
+  template <int kN>
+  int most_violated_of(const Problem& p) noexcept;  // n = kN (0: p.n)
   AddResult add_constraint(const Problem& p, int c) noexcept;
   void drop_active(int k, int n) noexcept;
   void finish(const Problem& full, const Problem& p, QpResult* res) noexcept;
   bool verified(const Problem& full) noexcept;  // the check above (s_ as scratch)
+  template <int kN>
+  bool verified_of(const Problem& full) noexcept;  // n = kN (0: full.n)
   void sanitize_result(const Problem& full, QpResult* res) noexcept;      // finite x, multipliers
 
   QpSettings settings_;

@@ -340,6 +340,8 @@ class QuadrupedController {
   Eigen::Vector3d com_ = Eigen::Vector3d::Zero();  // [m] whole-robot CoM, trunk frame, standing
   Eigen::Matrix3d inertia_ = Eigen::Matrix3d::Identity();
   FreeLegInertia inertia_free_;  // the composite and each leg's coupling, about the CoM
+  // [kg m^2] inertia_free_.rotational(legs swinging) for each set of swinging legs (bit i: leg i)
+  std::array<Eigen::Matrix3d, 1 << kLegs> inertia_by_swing_set_{};
   GaitScheduler gait_;
   ContactDetector contacts_;
   StateEstimator estimator_;
