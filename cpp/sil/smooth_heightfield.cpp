@@ -1,7 +1,7 @@
 #include "sil/smooth_heightfield.hpp"
 
-#include <cmath>
 #include <algorithm>
+#include <cmath>
 #include <cstring>
 
 #include "sil/mujoco_api.hpp"
