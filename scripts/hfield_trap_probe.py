@@ -18,6 +18,7 @@ from __future__ import annotations
 import mujoco
 import numpy as np
 
+from kiloloop.sil.floating_plant import DEFAULT_PHYSICS, set_friction_options
 from kiloloop.sil.terrain import Rough
 
 RADIUS = 0.02  # [m]
@@ -27,11 +28,9 @@ MASS = 0.3     # [kg]
 def build(ground: str, time_constant: float = 0.02):
     """ground "plane" (z = 0), "prisms" or "smooth" (a flat 2 cm heightfield, each collider)."""
     spec = mujoco.MjSpec()
-    spec.option.cone = mujoco.mjtCone.mjCONE_ELLIPTIC
-    spec.option.impratio = 100.0
-    spec.option.noslip_iterations = 5
+    set_friction_options(spec, DEFAULT_PHYSICS)
     spec.option.integrator = mujoco.mjtIntegrator.mjINT_IMPLICITFAST
-    spec.option.timestep = 0.001
+    spec.option.timestep = DEFAULT_PHYSICS["timestep"]
     if ground == "plane":
         spec.worldbody.add_geom(type=mujoco.mjtGeom.mjGEOM_PLANE, size=[0, 0, 0.05])
     else:

@@ -7,7 +7,7 @@ import mujoco
 import numpy as np
 import pytest
 
-from kiloloop.sil.floating_plant import FloatingBasePlant
+from kiloloop.sil.floating_plant import DEFAULT_PHYSICS, FloatingBasePlant, set_friction_options
 from kiloloop.sil.terrain import Compliant, Rough, Stones
 
 BALL_RADIUS = 0.05  # [m]
@@ -96,11 +96,9 @@ def sphere_world(ground, solref=(0.008, 1.0)):
     """A 20 mm, 0.3 kg sphere (a quadruped's foot) above `ground`: "plane", or a Rough terrain
     spec; the quadruped plant's physics options."""
     spec = mujoco.MjSpec()
-    spec.option.cone = mujoco.mjtCone.mjCONE_ELLIPTIC
-    spec.option.impratio = 100.0
-    spec.option.noslip_iterations = 5
+    set_friction_options(spec, DEFAULT_PHYSICS)
     spec.option.integrator = mujoco.mjtIntegrator.mjINT_IMPLICITFAST
-    spec.option.timestep = 0.001
+    spec.option.timestep = DEFAULT_PHYSICS["timestep"]
     if ground == "plane":
         geom = spec.worldbody.add_geom(type=mujoco.mjtGeom.mjGEOM_PLANE, size=[0, 0, 0.05])
         geom.friction = [0.8, 0.005, 0.0001]

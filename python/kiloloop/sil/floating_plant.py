@@ -26,9 +26,11 @@ from .plant import add_joints_and_motors, collision_geoms, spec_from_urdf, urdf_
 from .plant import load_overlay as _load_plant_overlay
 
 _FEET = ("FL_foot", "FR_foot", "RL_foot", "RR_foot")
+# The quadruped plant's solver options (robot files override them in [sim.physics]).
+DEFAULT_PHYSICS = {"timestep": 0.001, "integrator": "implicitfast", "gravity": [0.0, 0.0, -9.81],
+                   "cone": "elliptic", "impratio": 100.0, "noslip_iterations": 5}
 _DEFAULTS = {
-    "physics": {"timestep": 0.001, "integrator": "implicitfast", "gravity": [0.0, 0.0, -9.81],
-                "cone": "elliptic", "impratio": 100.0, "noslip_iterations": 5},
+    "physics": DEFAULT_PHYSICS,
     "floor": {"enabled": True, "slope_deg": 0.0, "friction": 0.8},
     "joints": {"damping": 0.0, "frictionloss": 0.0, "armature": 0.0, "q0": None},
     # pos0 None: computed so that the lowest foot just touches flat ground at q0 (see _stand_pos).
@@ -86,6 +88,24 @@ def _repair_inertias(spec, notes: list) -> None:
                      f"CoM kept; principal moments {', '.join(f'{x:.3g}' for x in w)} kg m^2)")
 
 
+def set_friction_options(spec, phys: dict) -> None:
+    """The plant's friction cone and its stiffness on spec.option from a [physics] table (cone,
+    impratio, noslip_iterations; DEFAULT_PHYSICS holds the defaults), validated: MuJoCo's soft
+    friction lets a loaded foot creep; see sim.toml for the measured creep under each setting."""
+    cone = str(phys["cone"]).lower()
+    if cone not in _CONES:
+        raise ValueError(f"cone: expected one of {sorted(_CONES)}, got {cone!r}")
+    spec.option.cone = _CONES[cone]
+    impratio = float(phys["impratio"])
+    if not np.isfinite(impratio) or impratio <= 0:
+        raise ValueError(f"impratio: expected a positive number, got {phys['impratio']!r}")
+    spec.option.impratio = impratio
+    noslip = int(phys["noslip_iterations"])
+    if noslip < 0:
+        raise ValueError(f"noslip_iterations: expected >= 0, got {noslip}")
+    spec.option.noslip_iterations = noslip
+
+
 class FloatingBasePlant(FloatingBaseReadout):
     """A torque-controlled MuJoCo model of a floating-base (legged) URDF robot on a floor."""
 
@@ -127,20 +147,7 @@ class FloatingBasePlant(FloatingBaseReadout):
         self.notes = [] if notes is None else notes
         spec = spec_from_urdf(urdf_path, phys, package_dirs, notes=self.notes)
         _repair_inertias(spec, self.notes)
-        # Friction cone and its stiffness: MuJoCo's soft friction lets a loaded foot creep; see
-        # sim.toml for the measured creep under each setting.
-        cone = str(phys["cone"]).lower()
-        if cone not in _CONES:
-            raise ValueError(f"cone: expected one of {sorted(_CONES)}, got {cone!r}")
-        spec.option.cone = _CONES[cone]
-        impratio = float(phys["impratio"])
-        if not np.isfinite(impratio) or impratio <= 0:
-            raise ValueError(f"impratio: expected a positive number, got {phys['impratio']!r}")
-        spec.option.impratio = impratio
-        noslip = int(phys["noslip_iterations"])
-        if noslip < 0:
-            raise ValueError(f"noslip_iterations: expected >= 0, got {noslip}")
-        spec.option.noslip_iterations = noslip
+        set_friction_options(spec, phys)
 
         self.base_body = add_free_base(spec, urdf_path).name
 
