@@ -27,7 +27,8 @@ inline constexpr const char* kSmoothHeightfieldPrefix = "kiloloop_smooth";
 
 // MuJoCo's collision-function signature (mjfCollision): g1 the heightfield geom, g2 the sphere;
 // writes at most one contact (normal from the heightfield to the sphere) and returns the count.
-// Heightfields without the prefix go to `stock`, MuJoCo's own function for the pair.
+// Heightfields without the prefix go to MuJoCo's own function for the pair (the one
+// install_smooth_heightfield found in the table).
 int smooth_heightfield_sphere(const mjModel* m, mjData* d, mjPreContact* con, int g1, int g2,
                               mjtNum margin);
 
