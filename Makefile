@@ -44,7 +44,7 @@ SAN_ENV := ASAN_OPTIONS=detect_leaks=1:abort_on_error=1:strict_string_checks=1 \
            UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
            LSAN_OPTIONS=suppressions=$(abspath tests/lsan.supp)
 
-.PHONY: demo test cpp-build cpp-test bench build system-deps clean robot-matrix matrix quadruped-robots fuzz sanitize \
+.PHONY: demo test cpp-build cpp-test bench build system-deps clean robot-matrix matrix matrix-seeds quadruped-robots fuzz sanitize \
         b2b firmware-loop
 
 demo: build
@@ -83,6 +83,11 @@ robot-matrix: build
 matrix: build
 	$(BIN)/python -m kiloloop.bench.quadruped_matrix bench
 	$(BIN)/python -m kiloloop.bench.quadruped_matrix bench --realistic
+
+# The realistic table over seeds 0-4 (bench/quadruped_matrix_realistic_seeds.md): how many seeds
+# pass each cell, the worst one, and the criteria the failing ones miss. About 25 minutes on 2 cores.
+matrix-seeds: build
+	$(BIN)/python -m kiloloop.bench.quadruped_matrix bench --realistic --seeds 5
 
 # Every quadruped in example-robot-data from a minimal robot file (stand, trot, push, slope,
 # tilt-stop at 10 ms, realistic sensors): bench/quadruped_robots.{md,json}, about 5 minutes.
