@@ -378,28 +378,25 @@ Status QuadrupedController::configure(const QuadrupedConfig& config, RobotModelP
       cfg.swing_kd *= s;
     }
   }
-  // Safe stop from the effort limits, the derived gains at most the swing legs': a leg lifted
-  // off a tipping trunk is a leg in the air, and the swing PD is what such a leg takes at this
-  // delay. Where the joint predictor is on, the swing gains assume it, and the safe stop runs
-  // without it: they are lowered further, natural frequency to swing_delay_margin over the whole
-  // delay (damping ratio kept). Measured: Solo12's URDF gives every joint 1000 N m, so 400 N m/rad
-  // and 40 N m s/rad on joints of 5e-4 to 2e-3 kg m^2; in quadruped-tilt-stop the safe stop rang
-  // its legs until MuJoCo's accelerations were not finite, 0.8 s in on seeds 0-4 (MuJoCo then
-  // resets the simulation).
-  double scale = 1.0;  // of the swing gains' natural frequency
-  if (cfg.predict_swing) {
-    double w_swing = 0.0;
-    for (int j = 0; j < 3; ++j)
-      if (c.swing_inertia_[j] > 0) w_swing = std::max(w_swing, std::sqrt(cfg.swing_kp[j] / c.swing_inertia_[j]));
-    const double w_max = cfg.swing_delay_margin / t_loop;
-    if (w_swing > w_max) scale = w_max / w_swing;
-  }
+  // Safe stop from the effort limits, the derived gains at most those of a swing leg without the
+  // joint predictor (a leg lifted off a tipping trunk is a leg in the air, and the safe stop
+  // predicts nothing): the swing gains at the natural frequency a free leg takes over the whole
+  // delay, swing_predict_from / (actuation_delay + dt) if below swing_frequency, and the damping
+  // ratio swing_damping. Measured: Solo12's URDF gives every joint 1000 N m, so 400 N m/rad and
+  // 40 N m s/rad on joints of 5e-4 to 2e-3 kg m^2; in quadruped-tilt-stop the safe stop rang its
+  // legs until MuJoCo's accelerations were not finite, 0.8 s in on seeds 0-4 (MuJoCo then resets
+  // the simulation). At 35 ms the swing gains as the predictor has them (critically damped, 30
+  // rad/s) still rang it.
+  const double w_safe = std::min(cfg.swing_frequency, cfg.swing_predict_from / t_loop);
+  const double r = w_safe / cfg.swing_frequency;  // of the swing gains' design frequency
+  const double zeta_ratio =
+      cfg.predict_swing && cfg.swing_damping_predicted > 0 ? cfg.swing_damping / cfg.swing_damping_predicted : 1.0;
   for (int k = 0; k < 12; ++k) {
-    c.safe_kp_[k] = cfg.safe_kp > 0 ? cfg.safe_kp
-                                    : std::min(cfg.safe_stiffness * c.effort_[k], scale * scale * cfg.swing_kp[k % 3]);
+    const double kp_effort = cfg.safe_stiffness * c.effort_[k];
+    c.safe_kp_[k] = cfg.safe_kp > 0 ? cfg.safe_kp : std::min(kp_effort, r * r * cfg.swing_kp[k % 3]);
     c.safe_kd_[k] = cfg.safe_kd > 0 ? cfg.safe_kd
-                                    : std::min(cfg.safe_time_constant * cfg.safe_stiffness * c.effort_[k],
-                                               scale * cfg.swing_kd[k % 3]);
+                                    : std::min(cfg.safe_time_constant * kp_effort,
+                                               r * zeta_ratio * cfg.swing_kd[k % 3]);
   }
   // Forces from weight fractions.
   const double weight = c.mass_ * kGravity;

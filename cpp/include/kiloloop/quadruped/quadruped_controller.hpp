@@ -187,8 +187,8 @@ struct QuadrupedConfig {
   // Safety.
   double max_tilt = 15.0 * 3.14159265358979323846 / 180.0;  // [rad] trunk tilt that trips safe stop
   // Safe stop: a soft pull to the crouch, stiffness as a fraction of each joint's effort limit
-  // per radian, damping over a time constant; derived gains at most the swing legs' (a leg in
-  // the air must not ring; quadruped_controller.cpp).
+  // per radian, damping over a time constant; derived gains at most a swing leg's without the
+  // joint predictor (a leg in the air must not ring; quadruped_controller.cpp).
   double safe_stiffness = 0.4;        // [1/rad] kp_j = safe_stiffness * effort_j
   double safe_time_constant = 0.1;    // [s] kd_j = safe_time_constant * kp_j
   double safe_kp = 0.0;               // [N m/rad] override (0: derived)
