@@ -85,12 +85,12 @@ matrix: build
 	$(BIN)/python -m kiloloop.bench.quadruped_matrix bench --realistic
 
 # The realistic table over seeds 0-4 (bench/quadruped_matrix_realistic_seeds.md): how many seeds
-# pass each cell, the worst one, and the criteria the failing ones miss. About 25 minutes on 2 cores.
+# pass each cell, the worst one, and the criteria the failing ones miss. About 30 s on 2 cores.
 matrix-seeds: build
 	$(BIN)/python -m kiloloop.bench.quadruped_matrix bench --realistic --seeds 5
 
 # Every quadruped in example-robot-data from a minimal robot file (stand, trot, push, slope,
-# tilt-stop at 10 ms, realistic sensors): bench/quadruped_robots.{md,json}, about 5 minutes.
+# tilt-stop at 10 ms, realistic sensors): bench/quadruped_robots.{md,json}, about 15 s.
 quadruped-robots: build
 	$(BIN)/python -m kiloloop.bench.quadruped_robots bench
 

@@ -64,7 +64,7 @@ def test_solo12_safe_stop_keeps_the_simulation_finite(tmp_path, seed, delay):
     then thrown 1.3 m up at 11 m/s. Derived safe gains are at most a swing leg's without the
     joint predictor (at 35 ms, the swing gains the predictor allows still rang it). Here the
     shove (2.3 N s/kg) rolls the robot over its legs: the trunk may rise a few centimetres, not
-    to twice its standing height, and moves no faster than the shove made it (2.3 m/s)."""
+    to twice its standing height, and stays below 5 m/s (the shove gives it 2.3)."""
     path = robot_file("solo12", tmp_path)
     if path is None:
         pytest.skip("example-robot-data not installed")
