@@ -10,6 +10,7 @@ seeds that fail), written as <stem>_seeds.{md,json} (`make matrix-seeds`: realis
 `--jobs J` runs J scenarios at once (default: the machine's cores; results do not depend on it)."""
 from __future__ import annotations
 
+import argparse
 import json
 import os
 import sys
@@ -65,6 +66,12 @@ def _headline(name: str, m: dict) -> str:
     return text
 
 
+def _headline_value(name: str, m: dict) -> float:
+    """The headline figure as a number (the worst seed is the largest)."""
+    key = HEADLINE.get(name)
+    return float(m.get(key, float("inf"))) if key else 0.0
+
+
 def _run_one(job: tuple) -> dict:
     """One scenario run: job = (robot label, robot, scenario, extra sets, delay, realistic, seed)."""
     from .. import scenarios
@@ -106,27 +113,14 @@ def _seeds_cell(name: str, records: list) -> str:
     return text
 
 
-def _headline_value(name: str, m: dict) -> float:
-    key = HEADLINE.get(name)
-    return float(m.get(key, float("inf"))) if key else 0.0
-
-
-def _option(argv: list, flag: str, default: int) -> int:
-    if flag not in argv:
-        return default
-    k = argv.index(flag)
-    value = int(argv[k + 1])
-    del argv[k:k + 2]
-    return value
-
-
 def main(argv=None) -> int:
-    argv = list(argv or [])
-    realistic = "--realistic" in argv
-    argv = [a for a in argv if a != "--realistic"]
-    n_seeds = _option(argv, "--seeds", 0)
-    jobs = _option(argv, "--jobs", os.cpu_count() or 1)
-    out_dir = Path(argv[0]) if argv else Path("bench")
+    parser = argparse.ArgumentParser(prog="python -m kiloloop.bench.quadruped_matrix")
+    parser.add_argument("out_dir", nargs="?", default="bench", type=Path)
+    parser.add_argument("--realistic", action="store_true")
+    parser.add_argument("--seeds", type=int, default=0)
+    parser.add_argument("--jobs", type=int, default=os.cpu_count() or 1)
+    args = parser.parse_args(argv)
+    realistic, n_seeds, jobs, out_dir = args.realistic, args.seeds, args.jobs, args.out_dir
     stem = "quadruped_matrix_realistic" if realistic else "quadruped_matrix"
     if n_seeds:
         stem += "_seeds"
