@@ -326,10 +326,12 @@ Status QuadrupedController::configure(const QuadrupedConfig& config, RobotModelP
       kd *= w_max / w;
     }
   };
+  const double kp_roll = cfg.kp_orientation[0];
   for (int j = 0; j < 3; ++j) {
     cap(cfg.kp_position[j], cfg.kd_velocity[j], 1.0, cfg.trunk_delay_margin / t_loop);
     cap(cfg.kp_orientation[j], cfg.kd_angular[j], 1.0, cfg.trunk_delay_margin / t_loop);
   }
+  if (cfg.kp_orientation[0] < kp_roll) cfg.kp_position[1] = 0.0;  // no hold across the heading
   // Swing PD: kp = I w^2, kd = 2 zeta I w per joint, I the leg's joint-space inertia diagonal at
   // the standing pose (mean over the legs).
   {
@@ -649,6 +651,14 @@ void QuadrupedController::trunk_reference() noexcept {
   p_des_.z() = estimator_.ground_height(k.p.x(), k.p.y()) + cfg_.body_height;
 }
 
+// kp_position's x and y act along and across the commanded heading (world z as is).
+Eigen::Vector3d QuadrupedController::heading_frame_position_feedback(const Eigen::Vector3d& e_p) const noexcept {
+  const double c = std::cos(yaw_des_), s = std::sin(yaw_des_);
+  const double along = cfg_.kp_position.x() * (c * e_p.x() + s * e_p.y());
+  const double across = cfg_.kp_position.y() * (-s * e_p.x() + c * e_p.y());
+  return Eigen::Vector3d(c * along - s * across, s * along + c * across, cfg_.kp_position.z() * e_p.z());
+}
+
 // 7. Desired wrench about the CoM (world axes). Height is measured by the legs in contact
 // (trunk above the feet), which does not drift the way an integrated estimate does.
 void QuadrupedController::trunk_wrench(QuadrupedOutput& out) noexcept {
@@ -700,7 +710,7 @@ void QuadrupedController::trunk_wrench(QuadrupedOutput& out) noexcept {
   // The commanded turn's centripetal acceleration (w_z x v_des) as a feed-forward: otherwise a
   // turning trot needs a lateral velocity error of v w / kd to make it.
   const Eigen::Vector3d a_turn(-v_cmd_.z() * k.v_des.y(), v_cmd_.z() * k.v_des.x(), 0.0);
-  k.wrench.head<3>() = mass_ * (cfg_.kp_position.cwiseProduct(e_p) + cfg_.kd_velocity.cwiseProduct(e_v) +
+  k.wrench.head<3>() = mass_ * (heading_frame_position_feedback(e_p) + cfg_.kd_velocity.cwiseProduct(e_v) +
                                 a_turn + Eigen::Vector3d(0, 0, kGravity));
   k.wrench.tail<3>() = R * (inertia_ * (cfg_.kp_orientation.cwiseProduct(e_R_body) +
                                         cfg_.kd_angular.cwiseProduct(w_des_body - w_pred_body)));

@@ -83,7 +83,14 @@ struct QuadrupedConfig {
   // Trunk PD, as accelerations per unit error (multiplied by mass / composite inertia inside):
   // natural frequencies squared and 2 zeta omega. Bounded by the actuation delay (phase lag
   // omega * delay at crossover); the feedback acts on the state predicted over the delay.
-  Eigen::Vector3d kp_position{20.0, 20.0, 300.0};  // [1/s^2] x, y (integrated velocity command), z
+  // x, y: along and across the commanded heading (the position target integrates the velocity
+  // command), z: height. Across the heading the hold is dropped (y set to 0) where the delay
+  // lowers the roll loop (kp_orientation[0], below): a walk-back sideways on two diagonal feet
+  // asks for a roll moment that loop then corrects too slowly. Measured (realistic, seeds 0-4):
+  // Go1's 0.4 N s/kg push at 35 ms rolled 1.02-1.30 deg after recovery on 3 of 5 seeds (limit 1)
+  // with the hold, 0.71-0.82 without; at 10 ms, where nothing is lowered, dropping it made
+  // ANYmal C's trot fall on a seed (docs/robots.md).
+  Eigen::Vector3d kp_position{20.0, 20.0, 300.0};  // [1/s^2]
   Eigen::Vector3d kd_velocity{8.0, 8.0, 35.0};     // [1/s]
   Eigen::Vector3d kp_orientation{250.0, 250.0, 150.0};  // [1/s^2] roll, pitch, yaw (body axes)
   Eigen::Vector3d kd_angular{20.0, 20.0, 20.0};    // [1/s]
@@ -277,6 +284,7 @@ class QuadrupedController {
   }
 
  private:
+  Eigen::Vector3d heading_frame_position_feedback(const Eigen::Vector3d& e_p) const noexcept;
   static double coupled_swing_frequency(const QuadrupedController& c, const QuadrupedConfig& cfg);
   static LegGeometry knee_nearer_zero(const LegGeometry& g, const QuadrupedConfig& cfg);
   // Per-tick scratch: what one stage of run() hands to the next (fixed size, in the workspace).
