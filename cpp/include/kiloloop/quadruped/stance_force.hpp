@@ -54,17 +54,16 @@ class StanceForceQp {
   const qp::QpResult& last_result() const { return result_; }
 
  private:
-  void hessian_of_wrench() noexcept;  // H_ = A_^T S A_ (stance_force.cpp)
+  void hessian_of_wrench(const int* legs, int count) noexcept;  // H_ = A_^T S A_ (stance_force.cpp)
 
   StanceForceConfig cfg_;
   qp::DenseQpSolver solver_;
   qp::QpResult result_;
   Eigen::Matrix<double, 6, 12> A_;
   Eigen::Matrix<double, 12, 12> H_;
-  Eigen::Matrix<double, 12, 1> g_, f_prev_, x_;
-  Eigen::MatrixXd no_rows_, C_;  // (0 x 12); (24 x 12) preallocated, leading rows used
-  Eigen::VectorXd d_, lb_, ub_, none_;
-  std::array<int, kLegs> block_row_{-1, -1, -1, -1};  // leg i's first row in C_ last solve (-1: none)
+  Eigen::Matrix<double, 12, 1> g_, gc_, f_prev_, xc_;  // gc_, xc_: the stance legs' (3 a + c)
+  Eigen::MatrixXd no_rows_, C_;  // (0 x n); (24 x 12) preallocated, leading block used
+  Eigen::VectorXd d_, none_;
 };
 
 }  // namespace kiloloop
