@@ -41,7 +41,8 @@ Wrench resultant(const Vector12d& f) {
 }
 
 // The former formulation, kept as the reference: H = A^T S A through Eigen's product, C zeroed
-// whole each tick. The structured H and the block-wise clearing of C must leave every force
+// whole each tick, all 12 forces as variables (a swing leg's fixed at zero by its bounds). The
+// structured H over the stance legs' forces only must leave every force and the iteration count
 // bit-identical over a long random sequence (stance sets changing, warm starts carried over).
 class ReferenceStanceForce {
  public:
