@@ -102,6 +102,14 @@ Status StanceForceQp::solve(const Eigen::Matrix<double, 6, 1>& wrench,
   for (int i = 0; i < kLegs; ++i)
     if (stance[i]) legs[count++] = i;
   const int n = 3 * count;
+  // Nothing on the ground: no forces and no problem to pose (the 12-variable form returned the
+  // same zeros, optimal, after 12 iterations: one per variable fixed by its bounds).
+  if (count == 0) {
+    result_ = qp::QpResult{qp::QpStatus::kOptimal, 0, 0.0, 0};
+    f.setZero();
+    f_prev_.setZero();
+    return Status::kOk;
+  }
   for (int i = 0; i < kLegs; ++i) A_.block<3, 3>(3, 3 * i) = skew(feet[i]);
   const auto S = cfg_.wrench_weight.asDiagonal();
   hessian_of_wrench(legs, count);
@@ -129,12 +137,6 @@ Status StanceForceQp::solve(const Eigen::Matrix<double, 6, 1>& wrench,
     C_.block<1, 3>(r + 5, 3 * a) = nrm.transpose();
     const double share = std::isfinite(load[i]) ? std::clamp(load[i], 0.0, 1.0) : 1.0;
     d_[r + 5] = cfg_.fz_min + share * (cfg_.fz_max - cfg_.fz_min);
-  }
-  if (count == 0) {  // nothing on the ground: no forces (what the solver returned for all fixed)
-    result_ = qp::QpResult{qp::QpStatus::kOptimal, 0, 0.0, 0};
-    f.setZero();
-    f_prev_.setZero();
-    return Status::kOk;
   }
   result_ = solver_.solve(H_.topLeftCorner(n, n), gc_.head(n), no_rows_.leftCols(n), none_, C_.topLeftCorner(n_in, n),
                           d_.head(n_in), none_, none_, xc_.head(n));

@@ -62,7 +62,7 @@ class StanceForceQp {
   Eigen::Matrix<double, 6, 12> A_;
   Eigen::Matrix<double, 12, 12> H_;
   Eigen::Matrix<double, 12, 1> g_, gc_, f_prev_, xc_;  // gc_, xc_: the stance legs' (3 a + c)
-  Eigen::MatrixXd no_rows_, C_;  // (0 x n); (24 x 12) preallocated, leading block used
+  Eigen::MatrixXd no_rows_, C_;  // (0 x 12) and (24 x 12), preallocated; leading blocks used
   Eigen::VectorXd d_, none_;
 };
 
