@@ -227,13 +227,24 @@ void StateEstimator::update_orientation(const Eigen::Vector3d& gyro, const Eigen
 void StateEstimator::fit_ground() noexcept {
   // Least squares z = a + b x + c y through the four footholds (foot centres), then shifted down
   // by the foot radius along the normal to the ground surface.
-  Eigen::Matrix3d AtA = Eigen::Matrix3d::Zero();
-  Eigen::Vector3d Atz = Eigen::Vector3d::Zero();
+  // The normal equations' sums over the feet for the row (1, x, y), each summed from zero foot by
+  // foot as Eigen's `AtA += row * row.transpose(); Atz += row * z` did (its products by the 1 are
+  // exact, so they are left out; AtA(0, 0) = 0 + 1 + 1 + 1 + 1 = 4 exactly): about a third of the
+  // instructions of Eigen's outer products, which formed all nine entries of the symmetric AtA.
+  double sx = 0.0, sy = 0.0, sxx = 0.0, sxy = 0.0, syy = 0.0, sz = 0.0, sxz = 0.0, syz = 0.0;
   for (const auto& f : footholds_) {
-    const Eigen::Vector3d row(1.0, f.x(), f.y());
-    AtA += row * row.transpose();
-    Atz += row * f.z();
+    sx += f.x();
+    sy += f.y();
+    sxx += f.x() * f.x();
+    sxy += f.y() * f.x();
+    syy += f.y() * f.y();
+    sz += f.z();
+    sxz += f.x() * f.z();
+    syz += f.y() * f.z();
   }
+  Eigen::Matrix3d AtA;
+  AtA << 4.0, sx, sy, sx, sxx, sxy, sy, sxy, syy;
+  const Eigen::Vector3d Atz(sz, sxz, syz);
   const Eigen::Vector3d sol = Ldlt3(AtA).solve(Atz);  // Eigen's ldlt() bit for bit (ldlt3.hpp)
   if (!sol.allFinite()) return;
   Eigen::Vector3d n(-sol[1], -sol[2], 1.0);
