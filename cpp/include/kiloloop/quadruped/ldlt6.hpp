@@ -25,18 +25,25 @@ class Ldlt6 {
   using Matrix6 = Eigen::Matrix<double, 6, 6>;
   using Vector6 = Eigen::Matrix<double, 6, 1>;
 
+  // Every loop unrolls completely (the pragmas; at -O2 GCC unrolled none), so the bounds that
+  // follow k are constants: the same operations in the same order, without the loop overhead.
   explicit Ldlt6(const Matrix6& A) noexcept : m_(A) {
     constexpr int n = 6;
+#pragma GCC unroll 6
     for (int k = 0; k < n; ++k) {
       int big = k;
       double big_abs = std::abs(m_(k, k));
+#pragma GCC unroll 6
       for (int i = k + 1; i < n; ++i)
         if (std::abs(m_(i, i)) > big_abs) big_abs = std::abs(m_(i, i)), big = i;
       swaps_.indices()[k] = big;
       if (big != k) {  // exchange k and big, touching the lower triangle only
+#pragma GCC unroll 6
         for (int j = 0; j < k; ++j) std::swap(m_(k, j), m_(big, j));
+#pragma GCC unroll 6
         for (int i = big + 1; i < n; ++i) std::swap(m_(i, k), m_(i, big));
         std::swap(m_(k, k), m_(big, big));
+#pragma GCC unroll 6
         for (int i = k + 1; i < big; ++i) {
           const double t = m_(i, k);
           m_(i, k) = m_(big, i);
@@ -45,12 +52,16 @@ class Ldlt6 {
       }
       if (k > 0) {
         double t[n];  // D L_k^T
+#pragma GCC unroll 6
         for (int j = 0; j < k; ++j) t[j] = m_(j, j) * m_(k, j);
         double s = m_(k, 0) * t[0];
+#pragma GCC unroll 6
         for (int j = 1; j < k; ++j) s += m_(k, j) * t[j];
         m_(k, k) -= s;
+#pragma GCC unroll 6
         for (int i = k + 1; i < n; ++i) {
           double r = 0.0;
+#pragma GCC unroll 6
           for (int j = 0; j < k; ++j) r += m_(i, j) * t[j];
           m_(i, k) -= r;
         }
@@ -60,8 +71,10 @@ class Ldlt6 {
         swaps_.setIdentity();
         return;
       }
-      if (std::abs(pivot) > 0.0)
+      if (std::abs(pivot) > 0.0) {
+#pragma GCC unroll 6
         for (int i = k + 1; i < n; ++i) m_(i, k) /= pivot;
+      }
     }
   }
 
