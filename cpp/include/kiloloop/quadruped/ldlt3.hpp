@@ -22,19 +22,28 @@ namespace kiloloop {
 
 class Ldlt3 {
  public:
+  // Every loop unrolls completely (the pragmas), so the bounds that
+  // follow k are constants: the same operations in the same order, without the loop overhead.
   explicit Ldlt3(const Eigen::Matrix3d& A) noexcept {
+#pragma GCC unroll 3
     for (int i = 0; i < 3; ++i)
+#pragma GCC unroll 3
       for (int j = 0; j < 3; ++j) m_[i][j] = A(i, j);
+#pragma GCC unroll 3
     for (int k = 0; k < 3; ++k) {
       int big = k;
       double big_abs = std::abs(m_[k][k]);
+#pragma GCC unroll 3
       for (int i = k + 1; i < 3; ++i)
         if (std::abs(m_[i][i]) > big_abs) big_abs = std::abs(m_[i][i]), big = i;
       swap_[k] = big;
       if (big != k) {  // exchange k and big, touching the lower triangle only
+#pragma GCC unroll 3
         for (int j = 0; j < k; ++j) std::swap(m_[k][j], m_[big][j]);
+#pragma GCC unroll 3
         for (int i = big + 1; i < 3; ++i) std::swap(m_[i][k], m_[i][big]);
         std::swap(m_[k][k], m_[big][big]);
+#pragma GCC unroll 3
         for (int i = k + 1; i < big; ++i) {
           const double t = m_[i][k];
           m_[i][k] = m_[big][i];
@@ -43,8 +52,10 @@ class Ldlt3 {
       }
       if (k > 0) {
         double t[2];  // D L_k^T
+#pragma GCC unroll 3
         for (int j = 0; j < k; ++j) t[j] = m_[j][j] * m_[k][j];
         m_[k][k] -= k == 1 ? m_[k][0] * t[0] : m_[k][0] * t[0] + m_[k][1] * t[1];
+#pragma GCC unroll 3
         for (int i = k + 1; i < 3; ++i)  // k == 1 here: one term
           m_[i][k] -= m_[i][0] * t[0];
       }
@@ -53,8 +64,10 @@ class Ldlt3 {
         swap_[0] = 0, swap_[1] = 1, swap_[2] = 2;
         return;
       }
-      if (std::abs(pivot) > 0.0)
+      if (std::abs(pivot) > 0.0) {
+#pragma GCC unroll 3
         for (int i = k + 1; i < 3; ++i) m_[i][k] /= pivot;
+      }
     }
   }
 

@@ -20,20 +20,29 @@ namespace kiloloop {
 
 class Lu3 {
  public:
+  // Every loop unrolls completely (the pragmas), so the bounds that
+  // follow k are constants: the same operations in the same order, without the loop overhead.
   explicit Lu3(const Eigen::Matrix3d& A) noexcept {
+#pragma GCC unroll 3
     for (int i = 0; i < 3; ++i)
+#pragma GCC unroll 3
       for (int j = 0; j < 3; ++j) m_[i][j] = A(i, j);
+#pragma GCC unroll 3
     for (int k = 0; k < 2; ++k) {
       int p = k;
       double big = std::abs(m_[k][k]);
+#pragma GCC unroll 3
       for (int i = k + 1; i < 3; ++i)
         if (std::abs(m_[i][k]) > big) big = std::abs(m_[i][k]), p = i;
       swap_[k] = p;
       if (big != 0.0) {
         if (p != k) std::swap(m_[k], m_[p]);
+#pragma GCC unroll 3
         for (int i = k + 1; i < 3; ++i) m_[i][k] /= m_[k][k];
       }
+#pragma GCC unroll 3
       for (int i = k + 1; i < 3; ++i)
+#pragma GCC unroll 3
         for (int j = k + 1; j < 3; ++j) m_[i][j] -= m_[i][k] * m_[k][j];
     }
   }
