@@ -25,7 +25,7 @@ class Ldlt6 {
   using Matrix6 = Eigen::Matrix<double, 6, 6>;
   using Vector6 = Eigen::Matrix<double, 6, 1>;
 
-  // Every loop unrolls completely (the pragmas; at -O2 GCC unrolled none), so the bounds that
+  // Every loop unrolls completely (the pragmas), so the bounds that
   // follow k are constants: the same operations in the same order, without the loop overhead.
   explicit Ldlt6(const Matrix6& A) noexcept : m_(A) {
     constexpr int n = 6;
