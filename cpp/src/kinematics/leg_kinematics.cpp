@@ -181,9 +181,17 @@ void LegKinematics::foot_and_jacobian(const Eigen::Vector3d& q, Eigen::Vector3d*
   trig->pitch_axis = Eigen::Vector3d(0.0, a.c0, a.s0);
   const double set_angle[2] = {a.q0, a.p1}, set_cos[2] = {a.c0, a.c1}, set_sin[2] = {a.s0, a.s1};
   for (int j = 0; j < 3; ++j) {
-    const bool in_set = j < 2 && same_double(set_angle[j], q[j]);
-    trig->cos_q[j] = in_set ? set_cos[j] : std::cos(q[j]);
-    trig->sin_q[j] = in_set ? set_sin[j] : std::sin(q[j]);
+    if (j < 2 && same_double(set_angle[j], q[j])) {
+      trig->cos_q[j] = set_cos[j];
+      trig->sin_q[j] = set_sin[j];
+    } else {
+      // Into locals side by side, so that GCC makes the two calls one sincos (glibc's sincos
+      // returns sin's and cos's doubles); stored between them, they stayed two calls (the knee's
+      // cos and sin: 162 instructions a leg, the sincos 124).
+      const double c = std::cos(q[j]), sn = std::sin(q[j]);
+      trig->cos_q[j] = c;
+      trig->sin_q[j] = sn;
+    }
   }
 }
 
