@@ -111,6 +111,34 @@ inline double row_dot(const double* M, int ld, int i, const double* x, int n) {
   return sum;
 }
 
+// out = y0 + C x (y0 null: from 0; kNegate: y0 - C x) for an (m, n) column-major C, each row's
+// sum taken over the columns in order (j = 0, 1, ...) as `out = y0` followed by
+// axpy(out, C(:, j), +-x[j], m) for each j: the same operations in the same order. Row by row,
+// two rows at a time in registers, instead of column by column through memory: n axpy passes
+// loaded and stored every entry of out again (2.2k instructions a solve at n = 12, m = 24).
+// kN > 0: n = kN, fixed at compile time (with_fixed_size).
+template <int kN, bool kNegate>
+void row_sums_of_products(const double* y0, const double* C, int ld, int m, const double* x,
+                          int n_runtime, double* __restrict out) {
+  const int n = kN > 0 ? kN : n_runtime;
+  int i = 0;
+  for (; i + 1 < m; i += 2) {
+    double s0 = y0 ? y0[i] : 0.0, s1 = y0 ? y0[i + 1] : 0.0;
+    KILOLOOP_UNROLL for (int j = 0; j < n; ++j) {
+      const double alpha = kNegate ? -x[j] : x[j];
+      s0 += alpha * C[i + j * ld];
+      s1 += alpha * C[i + 1 + j * ld];
+    }
+    out[i] = s0;
+    out[i + 1] = s1;
+  }
+  if (i < m) {
+    double s0 = y0 ? y0[i] : 0.0;
+    KILOLOOP_UNROLL for (int j = 0; j < n; ++j) s0 += (kNegate ? -x[j] : x[j]) * C[i + j * ld];
+    out[i] = s0;
+  }
+}
+
 // Row norms (1 and 2) of an (m, n) column-major matrix; false if an entry is not finite or a
 // 1-norm overflows. A 2-norm whose sum of squares overflows (entries beyond ~1e154) or underflows
 // (all entries below ~1e-154) is recomputed scaled by the row's largest entry: the norm itself is
@@ -494,8 +522,7 @@ int DenseQpSolver::most_violated_of(const Problem& p) noexcept {
   double best_v = 0.0;
   if (p.mi > 0) {
     double* s = s_.data();
-    for (int i = 0; i < p.mi; ++i) s[i] = p.d[i];
-    KILOLOOP_UNROLL for (int j = 0; j < n; ++j) axpy(s, p.C + j * p.ldc, -x[j], p.mi);
+    row_sums_of_products<kN, true>(p.d, p.C, p.ldc, p.mi, x, n, s);  // s = d - C x
     for (int i = 0; i < p.mi; ++i) {
       const int c = p.me + i;
       if (is_active_[c] || skipped_[c] == epoch_) continue;
@@ -890,11 +917,9 @@ bool DenseQpSolver::verified_of(const Problem& full) noexcept {
     const double t = tol * (std::abs(full.b[i]) + norm1_[i] * xi);
     if (!(r <= t) || !std::isfinite(t)) return false;
   }
-  // C x column by column: each row's sum in the order row_dot takes it (j = 0, 1, ...), the
-  // rows two at a time.
+  // C x: each row's sum in the order row_dot takes it (j = 0, 1, ...).
   double* cx = s_.data();
-  for (int i = 0; i < full.mi; ++i) cx[i] = 0.0;
-  KILOLOOP_UNROLL for (int j = 0; j < n; ++j) axpy(cx, full.C + j * full.ldc, x[j], full.mi);
+  row_sums_of_products<kN, false>(nullptr, full.C, full.ldc, full.mi, x, n, cx);
   for (int i = 0; i < full.mi; ++i) {
     if (full.d[i] == kInf) continue;  // absent row
     const double r = cx[i] - full.d[i];
