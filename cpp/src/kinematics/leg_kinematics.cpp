@@ -131,7 +131,7 @@ Status leg_geometry_from_model(const RobotModel& model, const std::string& trunk
 }
 
 // The joint angles' sines and cosines, once: the foot and its Jacobian are read off them.
-LegKinematics::Angles LegKinematics::angles(const Eigen::Vector3d& qj) const noexcept {
+inline LegKinematics::Angles LegKinematics::angles(const Eigen::Vector3d& qj) const noexcept {
   const Eigen::Vector3d q = qj.cwiseProduct(g_.sign);
   const double p1 = q[1] + g_.a_thigh, p12 = q[1] + q[2] + g_.a_shank;
   Angles a;
@@ -143,12 +143,12 @@ LegKinematics::Angles LegKinematics::angles(const Eigen::Vector3d& qj) const noe
   return a;
 }
 
-Eigen::Vector3d LegKinematics::foot_from(const Angles& a) const noexcept {
+inline Eigen::Vector3d LegKinematics::foot_from(const Angles& a) const noexcept {
   const double x = -g_.l_thigh * a.s1 - g_.l_shank * a.s12;
   return g_.abd_origin + Eigen::Vector3d(x, g_.l_abd * a.c0 - a.z * a.s0, g_.l_abd * a.s0 + a.z * a.c0);
 }
 
-Eigen::Matrix3d LegKinematics::jacobian_from(const Angles& a) const noexcept {
+inline Eigen::Matrix3d LegKinematics::jacobian_from(const Angles& a) const noexcept {
   const double dx_dq1 = -g_.l_thigh * a.c1 - g_.l_shank * a.c12, dx_dq2 = -g_.l_shank * a.c12;
   const double dz_dq1 = g_.l_thigh * a.s1 + g_.l_shank * a.s12, dz_dq2 = g_.l_shank * a.s12;
   Eigen::Matrix3d J;
