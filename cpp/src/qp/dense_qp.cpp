@@ -114,8 +114,9 @@ inline double row_dot(const double* M, int ld, int i, const double* x, int n) {
 // out = y0 + C x (y0 null: from 0; kNegate: y0 - C x) for an (m, n) column-major C, each row's
 // sum taken over the columns in order (j = 0, 1, ...) as `out = y0` followed by
 // axpy(out, C(:, j), +-x[j], m) for each j: the same operations in the same order. Row by row,
-// two rows at a time in registers, instead of column by column through memory: n axpy passes
-// loaded and stored every entry of out again (2.2k instructions a solve at n = 12, m = 24).
+// two rows at a time in registers, instead of column by column through memory, where each of
+// the n axpy passes loaded and stored every entry of out again (callgrind, 1 s trot, n = 12,
+// m = 24: most_violated_of 2.20k -> 1.65k, verified_of 2.13k -> 1.27k instructions a call).
 // kN > 0: n = kN, fixed at compile time (with_fixed_size).
 template <int kN, bool kNegate>
 void row_sums_of_products(const double* y0, const double* C, int ld, int m, const double* x,
