@@ -453,8 +453,7 @@ template <int kN>
 double objective_of(const double* H, int ldh, const double* g, const double* x, int n_runtime,
                     double* hx) noexcept {
   const int n = kN > 0 ? kN : n_runtime;
-  KILOLOOP_UNROLL for (int i = 0; i < n; ++i) hx[i] = 0.0;
-  KILOLOOP_UNROLL for (int j = 0; j < n; ++j) axpy(hx, H + j * ldh, x[j], n);
+  row_sums_of_products<kN, false>(nullptr, H, ldh, n, x, n, hx);
   return 0.5 * dot(x, hx, n) + dot(g, x, n);
 }
 
