@@ -35,10 +35,25 @@ Matrix63 coupling_transposed(const Matrix63& A, const Eigen::Matrix3d& H_inv,
   return B_T;
 }
 
-// lhs += B^T Phi^-1 B, written out as Eigen's `lhs += B_T * Phi_inv * B_T.transpose()` evaluates
-// it (B^T Phi^-1 first, summed over k in order; then the row-major product with B, x0 + (x1 + x2);
-// then the sum into lhs), for the same reason as coupling_transposed.
-void add_congruence(const Matrix63& B_T, const Eigen::Matrix3d& Phi_inv, Matrix6d* lhs) noexcept {
+// The trunk's mass matrix lhs is formed in its lower triangle and diagonal only: Ldlt6, its one
+// reader, reads no entry above the diagonal (Eigen's ldlt() on the lower triangle, ldlt6.hpp), so
+// the 15 entries above were work for nothing (15 subtractions a leg; 45 products and 45 sums a
+// pinned leg).
+
+// lhs -= A H^-1 A^T, entry by entry, in the lower triangle (see above).
+void subtract_lower(const Matrix6d& coupling, Matrix6d* lhs) noexcept {
+#pragma GCC unroll 6
+  for (int j = 0; j < 6; ++j)
+#pragma GCC unroll 6
+    for (int i = j; i < 6; ++i) (*lhs)(i, j) -= coupling(i, j);
+}
+
+// lhs += B^T Phi^-1 B in the lower triangle (see above), each entry written out as Eigen's
+// `lhs += B_T * Phi_inv * B_T.transpose()` evaluates it (B^T Phi^-1 first, summed over k in order;
+// then the row-major product with B, x0 + (x1 + x2); then the sum into lhs), for the same reason
+// as coupling_transposed.
+void add_congruence_lower(const Matrix63& B_T, const Eigen::Matrix3d& Phi_inv,
+                          Matrix6d* lhs) noexcept {
   Matrix63 BP;
 #pragma GCC unroll 6
   for (int i = 0; i < 6; ++i)
@@ -48,7 +63,7 @@ void add_congruence(const Matrix63& B_T, const Eigen::Matrix3d& Phi_inv, Matrix6
 #pragma GCC unroll 6
   for (int i = 0; i < 6; ++i)
 #pragma GCC unroll 6
-    for (int j = 0; j < 6; ++j)
+    for (int j = 0; j <= i; ++j)
       (*lhs)(i, j) += BP(i, 0) * B_T(j, 0) + (BP(i, 1) * B_T(j, 1) + BP(i, 2) * B_T(j, 2));
 }
 
@@ -81,14 +96,14 @@ Eigen::Matrix3d foot_mobility(const Eigen::Matrix3d& J, const Eigen::Matrix3d& H
 bool trunk_acceleration(const FreeLegInertia& inertia, const LegTorques& legs,
                         const Eigen::Vector3d& gravity, Eigen::Matrix<double, 6, 1>* accel) noexcept {
   using Vector6 = Eigen::Matrix<double, 6, 1>;
-  Matrix6d lhs = inertia.composite;
+  Matrix6d lhs = inertia.composite;  // the lower triangle formed (add_congruence_lower)
   Vector6 rhs = Vector6::Zero();
   rhs.head<3>() = inertia.composite(0, 0) * gravity;  // [m g; 0]: the weight acts at the CoM
   for (int i = 0; i < 4; ++i) {
     const Matrix63& A = inertia.momentum[i];
     const Eigen::Matrix3d& H_inv = inertia.joint_inertia_inverse[i];
     const Eigen::Vector3d H_inv_u = H_inv * legs.torque[i];  // used twice for a pinned leg
-    lhs -= inertia.coupling[i];  // A H^-1 A^T: a constant of the standing pose (configure)
+    subtract_lower(inertia.coupling[i], &lhs);  // A H^-1 A^T: a constant of the standing pose
     rhs -= A * H_inv_u;
     if (!legs.pinned[i]) continue;
     const Eigen::Matrix3d& J = legs.jacobian[i];
@@ -100,7 +115,7 @@ bool trunk_acceleration(const FreeLegInertia& inertia, const LegTorques& legs,
     const Eigen::Vector3d& r = legs.foot[i];
     G_T.bottomRows<3>() << 0, -r.z(), r.y(), r.z(), 0, -r.x(), -r.y(), r.x(), 0;
     const Matrix63 B_T = coupling_transposed(A, H_inv, J, G_T);
-    add_congruence(B_T, Phi_inv, &lhs);
+    add_congruence_lower(B_T, Phi_inv, &lhs);
     rhs += B_T * (Phi_inv * (J * H_inv_u));
   }
   const Vector6 a = Ldlt6(lhs).solve(rhs);  // Eigen's ldlt() bit for bit (ldlt6.hpp)
