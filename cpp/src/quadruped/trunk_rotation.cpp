@@ -12,6 +12,18 @@ namespace {
 
 using Matrix63 = Eigen::Matrix<double, 6, 3>;
 
+// M N for a 6x3 M and a 3x3 N, each entry summed over k in order as Eigen's product of the two
+// evaluates it (the first product of both written-out expressions below).
+Matrix63 times_3x3(const Matrix63& M, const Eigen::Matrix3d& N) noexcept {
+  Matrix63 MN;
+#pragma GCC unroll 6
+  for (int i = 0; i < 6; ++i)
+#pragma GCC unroll 3
+    for (int j = 0; j < 3; ++j)
+      MN(i, j) = M(i, 0) * N(0, j) + M(i, 1) * N(1, j) + M(i, 2) * N(2, j);
+  return MN;
+}
+
 // B^T = A H^-1 J^T - G^T, written out: Eigen's `A * H_inv * J.transpose() - G_T` (A H^-1 first,
 // each entry summed over k in order; then the row-major product with J^T, which Eigen reduces as
 // x0 + (x1 + x2)), the same operations in the same order. Out of line, as Eigen's product was
@@ -20,12 +32,7 @@ using Matrix63 = Eigen::Matrix<double, 6, 3>;
 // on 2M random inputs with signed zeros against Eigen's expression).
 Matrix63 coupling_transposed(const Matrix63& A, const Eigen::Matrix3d& H_inv,
                              const Eigen::Matrix3d& J, const Matrix63& G_T) noexcept {
-  Matrix63 AH;
-#pragma GCC unroll 6
-  for (int i = 0; i < 6; ++i)
-#pragma GCC unroll 3
-    for (int j = 0; j < 3; ++j)
-      AH(i, j) = A(i, 0) * H_inv(0, j) + A(i, 1) * H_inv(1, j) + A(i, 2) * H_inv(2, j);
+  const Matrix63 AH = times_3x3(A, H_inv);
   Matrix63 B_T;
 #pragma GCC unroll 6
   for (int i = 0; i < 6; ++i)
@@ -54,12 +61,7 @@ void subtract_lower(const Matrix6d& coupling, Matrix6d* lhs) noexcept {
 // as coupling_transposed.
 void add_congruence_lower(const Matrix63& B_T, const Eigen::Matrix3d& Phi_inv,
                           Matrix6d* lhs) noexcept {
-  Matrix63 BP;
-#pragma GCC unroll 6
-  for (int i = 0; i < 6; ++i)
-#pragma GCC unroll 3
-    for (int j = 0; j < 3; ++j)
-      BP(i, j) = B_T(i, 0) * Phi_inv(0, j) + B_T(i, 1) * Phi_inv(1, j) + B_T(i, 2) * Phi_inv(2, j);
+  const Matrix63 BP = times_3x3(B_T, Phi_inv);
 #pragma GCC unroll 6
   for (int i = 0; i < 6; ++i)
 #pragma GCC unroll 6
