@@ -13,9 +13,6 @@ of the given simulated seconds and nothing else, so that a profiler's counts are
 from __future__ import annotations
 
 import argparse
-import time
-
-import mujoco
 
 
 def _family(name: str):
@@ -47,20 +44,13 @@ def main() -> None:
         rollout.run()
         print(f"{args.family}: {native.ticks_of(args.once)} ticks, ok={rollout.ok}")
         return
+    from kiloloop.bench.native_bench import timed_ticks_and_raw
+
     duration = 4.0
     ticks = native.ticks_of(duration)
-    tick, raw = [], []
-    for _ in range(args.repeats):
-        rollout = make_rollout(duration)
-        c0 = time.thread_time()
-        rollout.run()
-        tick.append(time.thread_time() - c0)
-        ctrl = applied(rig, rollout.log())
-        data = mujoco.MjData(rig.plant.model)
-        mujoco.mj_copyData(data, rig.plant.model, rig.plant.data)
-        c0 = time.thread_time()
-        native._native.step_raw(rig.plant.model, data, ticks, ctrl, actuators)
-        raw.append(time.thread_time() - c0)
+    tick, _, raw, _ = timed_ticks_and_raw(lambda: make_rollout(duration),
+                                          lambda log: applied(rig, log), rig.plant, ticks,
+                                          actuators, repeats=args.repeats)
     print(f"{args.family}: tick {min(tick) / ticks * 1e6:.2f} us, raw mj_step "
           f"{min(raw) / ticks * 1e6:.2f} us, tick / raw mj_step {min(tick) / min(raw):.3f}")
 

@@ -13,7 +13,8 @@ import numpy as np
 
 import kiloloop as kl
 
-from .native_bench import BATCH, REPEATS, batch_figures, python_figures, tick_figures
+from .native_bench import (BATCH, REPEATS, batch_figures, python_figures, tick_figures,
+                           timed_ticks_and_raw)
 
 
 def _setup():
@@ -57,21 +58,9 @@ def aerial_native(quick: bool) -> dict:
     ticks = native.ticks_of(duration)
     assert round(0.001 / rig.plant.timestep) == 1, "raw replay assumes one physics step per tick"
     actuators = [int(a) for a in rig.plant._rotor_act] + [int(a) for a in rig.plant._act]
-    raw_cpu, raw_wall, tick_cpu, tick_wall = [], [], [], []
-    for _ in range(REPEATS):
-        r = _rollouts(rig, command, table_fn, 1, duration)[0]
-        c0, w0 = time.thread_time(), time.perf_counter()
-        r.run()
-        tick_cpu.append(time.thread_time() - c0)
-        tick_wall.append(time.perf_counter() - w0)
-        assert r.ok and r.ticks_run == ticks, r.error
-        ctrl = _applied_commands(rig, r.log())
-        data = mujoco.MjData(rig.plant.model)
-        mujoco.mj_copyData(data, rig.plant.model, rig.plant.data)
-        c0, w0 = time.thread_time(), time.perf_counter()
-        native._native.step_raw(rig.plant.model, data, ticks, ctrl, actuators)
-        raw_cpu.append(time.thread_time() - c0)
-        raw_wall.append(time.perf_counter() - w0)
+    tick_cpu, tick_wall, raw_cpu, raw_wall = timed_ticks_and_raw(
+        lambda: _rollouts(rig, command, table_fn, 1, duration)[0],
+        lambda log: _applied_commands(rig, log), rig.plant, ticks, actuators)
     # The adapter + controller alone on the start measurement (hovering, no physics).
     addr, source = rig.measurement()
     d = rig.plant.data

@@ -74,6 +74,33 @@ def timed_batch(rollouts: list, threads: int, cpu: list | None = None) -> float:
     return wall
 
 
+def timed_ticks_and_raw(make_rollout, commands_of, plant, ticks: int, actuators: list,
+                        repeats: int = REPEATS) -> tuple[list, list, list, list]:
+    """`repeats` interleaved runs on this thread: one native rollout (make_rollout(), configured),
+    then raw `mj_step` from C++ replaying the commands it applied (commands_of(its log)) on the
+    plant's model from the same start state: the same motion, so the same contacts and solver
+    work, and the difference is the loop. Returns CPU and wall seconds: (tick_cpu, tick_wall,
+    raw_cpu, raw_wall)."""
+    from ..sil import native
+
+    raw_cpu, raw_wall, tick_cpu, tick_wall = [], [], [], []
+    for _ in range(repeats):
+        r = make_rollout()
+        c0, w0 = time.thread_time(), time.perf_counter()
+        r.run()
+        tick_cpu.append(time.thread_time() - c0)
+        tick_wall.append(time.perf_counter() - w0)
+        assert r.ok and r.ticks_run == ticks, r.error
+        ctrl = commands_of(r.log())
+        data = mujoco.MjData(plant.model)
+        mujoco.mj_copyData(data, plant.model, plant.data)
+        c0, w0 = time.thread_time(), time.perf_counter()
+        native._native.step_raw(plant.model, data, ticks, ctrl, actuators)
+        raw_cpu.append(time.thread_time() - c0)
+        raw_wall.append(time.perf_counter() - w0)
+    return tick_cpu, tick_wall, raw_cpu, raw_wall
+
+
 def tick_figures(duration: float, ticks: int, substeps: int, physics_dt: float, raw_cpu: list,
                  raw_wall: list, tick_cpu: list, tick_wall: list, controller: float) -> dict:
     """The single-thread figures of a family's row from REPEATS interleaved runs: CPU seconds
@@ -145,26 +172,12 @@ def arm_native(quick: bool, robot=None) -> dict:
     ticks = native.ticks_of(duration)
     substeps = LoopSettings(duration=duration).substeps(rig.plant.timestep)
 
-    # Interleaved, REPEATS times: one native rollout on this thread, then raw mj_step replaying
-    # its torques from the same start state (the same motion, so the same contacts and solver
-    # work: the difference is the loop). The physics timestep equals the control period here.
+    # The physics timestep equals the control period here (the raw replay's one step a tick).
     assert substeps == 1, "raw replay assumes one physics step per control tick"
-    raw_cpu, raw_wall, tick_cpu, tick_wall = [], [], [], []
     actuators = [int(a) for a in rig.plant._act]
-    for _ in range(REPEATS):
-        r = _rollouts(rig, traj, make, 1, duration)[0]
-        c0, w0 = time.thread_time(), time.perf_counter()
-        r.run()
-        tick_cpu.append(time.thread_time() - c0)
-        tick_wall.append(time.perf_counter() - w0)
-        assert r.ok, r.error
-        tau = np.ascontiguousarray(r.log()["tau"])
-        data = mujoco.MjData(rig.plant.model)
-        mujoco.mj_copyData(data, rig.plant.model, rig.plant.data)
-        c0, w0 = time.thread_time(), time.perf_counter()
-        native._native.step_raw(rig.plant.model, data, ticks, tau, actuators)
-        raw_cpu.append(time.thread_time() - c0)
-        raw_wall.append(time.perf_counter() - w0)
+    tick_cpu, tick_wall, raw_cpu, raw_wall = timed_ticks_and_raw(
+        lambda: _rollouts(rig, traj, make, 1, duration)[0],
+        lambda log: np.ascontiguousarray(log["tau"]), rig.plant, ticks, actuators)
     # The compiled controller behind the adapter alone, on the start measurement (no physics).
     ctrl_cpu = []
     y = np.concatenate([rig.plant.q(), rig.plant.qd()])
