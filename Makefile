@@ -137,6 +137,9 @@ system-deps:
 $(BIN)/python:
 	$(PYTHON) -m venv $(VENV)
 
+# pip's whole output (a failure's cause: "Could not install packages due to an OSError" is
+# followed by the error itself, "[Errno 28] No space left on device" for one), printed in part.
+PIP_LOG := build/pip-install.log
 # The first build compiles about 90 C++ sources in 30 build steps (unity units and links; about 5.5
 # minutes on 2 idle cores, pip included: 332 s in CI): its progress lines
 # ([n/N] Building ...) are shown, the rest of pip's output is not.
@@ -147,10 +150,12 @@ build: system-deps $(BIN)/python
 	@echo "==> kiloloop: building the C++ core and the Python module into $(BUILD_DIR)"
 	@echo "    (incremental; the first build takes about 5.5 minutes on 2 cores), then installing"
 	@echo "    the Python dependencies (mujoco, numpy, pinocchio and example-robot-data for tests...)"
-	@set -o pipefail; $(BIN)/python -m pip install -v $(PIP_BUILD_FLAGS) ".[test]" 2>&1 \
+	@mkdir -p build; set -o pipefail; $(BIN)/python -m pip install -v $(PIP_BUILD_FLAGS) ".[test]" 2>&1 \
+	  | tee $(PIP_LOG) \
 	  | grep --line-buffered -E '^ *\[[0-9]+/[0-9]+\] (Building|Linking)|^ERROR|error:|Successfully installed' \
 	  | sed -u -E 's/^ *(\[[0-9]+\/[0-9]+\]) (Building|Linking) CXX (object|executable|static library|shared module) /    \1 /; s/\.o$$//' \
-	  || { echo "build failed: rerun with '$(BIN)/python -m pip install -v $(PIP_BUILD_FLAGS) .[test]' for the full log"; exit 1; }
+	  || { echo "build failed; the end of pip's log ($(PIP_LOG)), then the free disk space:"; \
+	       tail -n 25 $(PIP_LOG); df -h . /tmp; exit 1; }
 	@echo "==> kiloloop: built"
 
 clean:
