@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <random>
 
@@ -41,9 +42,10 @@ Wrench resultant(const Vector12d& f) {
 }
 
 // The former formulation, kept as the reference: H = A^T S A through Eigen's product, C zeroed
-// whole each tick, all 12 forces as variables (a swing leg's fixed at zero by its bounds). The
-// structured H over the stance legs' forces only must leave every force and the iteration count
-// bit-identical over a long random sequence (stance sets changing, warm starts carried over).
+// whole each tick, all 12 forces as variables (a swing leg's fixed at zero by its bounds), always
+// the dense QP. The closed-form unconstrained optimum and the structured QP over the stance legs'
+// forces must give the same forces to rounding over a long random sequence (stance sets changing,
+// warm starts carried over).
 class ReferenceStanceForce {
  public:
   explicit ReferenceStanceForce(const StanceForceConfig& cfg) : cfg_(cfg) {
@@ -120,14 +122,15 @@ class ReferenceStanceForce {
   Eigen::VectorXd d_, lb_, ub_;
 };
 
-TEST(StanceForceQp, SameForcesAsTheProductFormulationBitForBit) {
+TEST(StanceForceQp, SameForcesAsTheProductFormulation) {
   StanceForceConfig cfg;
   cfg.wrench_weight << 1.0, 1.0, 1.0, 250.0, 120.0, 60.0;
   StanceForceQp qp = make_qp(cfg);
   ReferenceStanceForce ref(cfg);
   std::mt19937 rng(21);
   std::uniform_real_distribution<double> u(-1.0, 1.0);
-  int solved = 0;
+  int solved = 0, closed_form = 0, constrained = 0;
+  double worst = 0.0;
   for (int tick = 0; tick < 3000; ++tick) {
     std::array<Eigen::Vector3d, 4> feet = kFeet;
     for (auto& p : feet) p += 0.05 * Eigen::Vector3d(u(rng), u(rng), u(rng));
@@ -144,10 +147,23 @@ TEST(StanceForceQp, SameForcesAsTheProductFormulationBitForBit) {
     const Status st_ref = ref.solve(w, feet, stance, load, normal, f_ref);
     ASSERT_EQ(st, st_ref) << tick;
     solved += st == Status::kOk;
-    for (int k = 0; k < 12; ++k) ASSERT_EQ(f[k], f_ref[k]) << "tick " << tick << " entry " << k;
-    ASSERT_EQ(qp.last_result().iterations, ref.iterations()) << tick;  // the same active-set path
+    // Forces of 10-200 N: rounding of a 12x12 or 6x6 solve, far below a millinewton.
+    const double error = (f - f_ref).lpNorm<Eigen::Infinity>();
+    worst = std::max(worst, error);
+    ASSERT_LT(error, 1e-9 * (1.0 + f_ref.lpNorm<Eigen::Infinity>())) << "tick " << tick;
+    if (qp.last_closed_form()) {
+      ++closed_form;
+      ASSERT_EQ(ref.iterations(), 0) << tick;  // no constraint was active at the optimum
+    } else {
+      constrained += ref.iterations() > 0;
+    }
   }
   EXPECT_GT(solved, 2900);
+  // Both paths taken: the closed form where no constraint binds, the QP where one does.
+  EXPECT_GT(closed_form, 1000);
+  EXPECT_GT(constrained, 100);
+  std::printf("closed form %d, constrained %d of 3000 ticks, largest difference %.3g N\n", closed_form,
+              constrained, worst);
 }
 
 TEST(StanceForceQp, FourFeetCarryTheWeightEvenly) {

@@ -8,8 +8,10 @@
 //                                                            at touch-down and lift-off)
 //              f_i = 0                                      (feet not in stance: lb = ub = 0,
 //                                                            eliminated by the solver)
-// with A = [I ... I; [r_1]x ... [r_4]x], r_i the foot position relative to the CoM. Solved with
-// kiloloop's dense QP (12 variables); allocation-free after configure.
+// with A = [I ... I; [r_1]x ... [r_4]x], r_i the foot position relative to the CoM. When no
+// constraint binds at the unconstrained optimum (most ticks of a trot) that optimum is the answer,
+// found in closed form through a 6x6 system; otherwise kiloloop's dense QP solves it (3 variables
+// per stance foot). Allocation-free after configure.
 #include <array>
 #include <string>
 
@@ -52,13 +54,23 @@ class StanceForceQp {
                const std::array<bool, kLegs>& stance, const std::array<double, kLegs>& load,
                const Eigen::Vector3d& normal, Eigen::Matrix<double, 12, 1>& f) noexcept;
   const qp::QpResult& last_result() const { return result_; }
+  // Whether the last solve's answer was the closed-form unconstrained optimum (no QP solve).
+  bool last_closed_form() const { return closed_form_; }
 
  private:
   void hessian_of_wrench(const int* legs, int count) noexcept;  // H_ = A_^T S A_ (stance_force.cpp)
+  // The unconstrained optimum of the stance legs' forces in f, if it meets every constraint row
+  // (rows: the friction pyramid's four, nrm: the unit normal); false leaves f alone.
+  bool unconstrained_optimum(const Eigen::Matrix<double, 6, 1>& wrench, const int* legs, int count,
+                             const Eigen::Vector3d (&rows)[4], const Eigen::Vector3d& nrm,
+                             const std::array<double, kLegs>& load, Eigen::Matrix<double, 12, 1>& f) noexcept;
+  double normal_force_cap(double load) const noexcept;  // [N], fz_max scaled by the load share
 
   StanceForceConfig cfg_;
   qp::DenseQpSolver solver_;
   qp::QpResult result_;
+  bool closed_form_ = false;
+  Eigen::Matrix<double, 6, 1> sqrt_weight_;  // S^1/2's diagonal
   Eigen::Matrix<double, 6, 12> A_;
   Eigen::Matrix<double, 12, 12> H_;
   Eigen::Matrix<double, 12, 1> g_, gc_, f_prev_, xc_;  // gc_, xc_: the stance legs' (3 a + c)
