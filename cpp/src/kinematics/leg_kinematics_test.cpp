@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <random>
+#include <vector>
 
 #include <gtest/gtest.h>
 #include <kdl/chainfksolverpos_recursive.hpp>
@@ -152,6 +153,42 @@ TEST(LegKinematics, AnyAbductionPitchKneeLayout) {
     }
   }
   EXPECT_GT(round_trips, 250);
+}
+
+// foot_and_jacobian's trig: cos and sin of each joint angle itself, the knee's by angle
+// differences from the set (to rounding), on our legs (mirrored signs) and on the odd leg (knee
+// axis along -y, thigh and shank angled at q = 0).
+TEST(LegKinematics, TrigIsEachJointAnglesCosineAndSine) {
+  std::vector<LegGeometry> legs;
+  const RobotModel model = *testing::load_quadruped();
+  std::string why;
+  for (const char* foot : kFeet) {
+    LegGeometry g;
+    ASSERT_EQ(leg_geometry_from_model(model, "trunk", foot, &g, &why), Status::kOk) << why;
+    legs.push_back(g);
+  }
+  RobotModel odd;
+  ASSERT_EQ(model_from_urdf_string(kOddLeg, "", "", &odd, &why), Status::kOk) << why;
+  LegGeometry g_odd;
+  ASSERT_EQ(leg_geometry_from_model(odd, "trunk", "foot", &g_odd, &why), Status::kOk) << why;
+  EXPECT_NE(g_odd.a_shank - g_odd.a_thigh, 0.0);
+  legs.push_back(g_odd);
+  std::mt19937 rng(9);
+  std::uniform_real_distribution<double> u(-3.2, 3.2);
+  for (const LegGeometry& g : legs) {
+    const LegKinematics leg(g);
+    for (int k = 0; k < 1000; ++k) {
+      const Eigen::Vector3d q(u(rng), u(rng), u(rng));
+      Eigen::Vector3d p;
+      Eigen::Matrix3d J;
+      LegKinematics::Trig trig;
+      leg.foot_and_jacobian(q, &p, &J, &trig);
+      for (int j = 0; j < 3; ++j) {
+        EXPECT_NEAR(trig.cos_q[j], std::cos(q[j]), 2e-15) << j;
+        EXPECT_NEAR(trig.sin_q[j], std::sin(q[j]), 2e-15) << j;
+      }
+    }
+  }
 }
 
 // A foot point off the foot link's origin (ANYmal's contact sphere sits 23 mm up the shank; here

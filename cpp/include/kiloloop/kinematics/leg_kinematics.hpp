@@ -12,6 +12,8 @@
 // All vectors in the trunk frame [m]; FK, Jacobian and IK are noexcept and allocation-free.
 #include <string>
 
+#include <cmath>
+
 #include <Eigen/Core>
 
 #include "kiloloop/model/robot_model.hpp"
@@ -62,7 +64,8 @@ Status leg_geometry_from_model(const RobotModel& model, const std::string& trunk
 class LegKinematics {
  public:
   LegKinematics() = default;
-  explicit LegKinematics(const LegGeometry& g) : g_(g) {}
+  explicit LegKinematics(const LegGeometry& g)
+      : g_(g), cos_bend_offset_(std::cos(g.a_shank - g.a_thigh)), sin_bend_offset_(std::sin(g.a_shank - g.a_thigh)) {}
   const LegGeometry& geometry() const { return g_; }
 
   Eigen::Vector3d foot_position(const Eigen::Vector3d& q) const noexcept;  // trunk frame
@@ -75,7 +78,8 @@ class LegKinematics {
     // cos and sin of each q[j] itself (no axis sign, no offset), for a dynamics pass at the same
     // q (LegGravity): the set's where its angle is that same double (an axis along +x / +y, a
     // thigh straight below its hip at q = 0: most legs' abduction and hip pitch), computed
-    // otherwise.
+    // otherwise; the knee's from the set's thigh and thigh + shank angles by the angle-difference
+    // formulas (to rounding, a few 1e-16).
     Eigen::Vector3d cos_q, sin_q;
   };
   // Both at once, equal to the two calls bit for bit: one set of the joint angles' sines and
@@ -101,6 +105,8 @@ class LegKinematics {
   inline Eigen::Matrix3d jacobian_from(const Angles& a) const noexcept;
 
   LegGeometry g_;
+  // cos and sin of a_shank - a_thigh: the knee's bend at q = 0 (foot_and_jacobian's knee angle).
+  double cos_bend_offset_ = 1.0, sin_bend_offset_ = 0.0;
 };
 
 }  // namespace kiloloop
