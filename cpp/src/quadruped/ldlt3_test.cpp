@@ -18,7 +18,7 @@ bool same(double a, double b) {
   return std::memcmp(&a, &b, sizeof(double)) == 0 || (std::isnan(a) && std::isnan(b));
 }
 
-void expect_same_solution(const Eigen::Matrix3d& A, const Eigen::Vector3d& b) {
+void expect_same_ldlt3_solution(const Eigen::Matrix3d& A, const Eigen::Vector3d& b) {
   const Eigen::Vector3d ref = A.ldlt().solve(b);
   const Eigen::Vector3d got = Ldlt3(A).solve(b);
   for (int i = 0; i < 3; ++i)
@@ -33,7 +33,7 @@ TEST(Ldlt3, EqualsEigenLdltOnRandomSymmetricMatrices) {
     Eigen::Matrix3d M;
     for (int i = 0; i < 9; ++i) M(i) = u(rng) * std::pow(10.0, 2.0 * u(rng));
     const Eigen::Matrix3d A = k % 2 ? Eigen::Matrix3d(M + M.transpose()) : Eigen::Matrix3d(M * M.transpose());
-    expect_same_solution(A, Eigen::Vector3d(u(rng), 10.0 * u(rng), 100.0 * u(rng)));
+    expect_same_ldlt3_solution(A, Eigen::Vector3d(u(rng), 10.0 * u(rng), 100.0 * u(rng)));
   }
 }
 
@@ -49,13 +49,13 @@ TEST(Ldlt3, EqualsEigenLdltOnGroundPlaneAndInertiaSystems) {
       AtA += row * row.transpose();
       Atz += row * (0.01 * u(rng));
     }
-    expect_same_solution(AtA, Atz);
+    expect_same_ldlt3_solution(AtA, Atz);
     // A rotated inertia, I_world = R I R^T.
     const Eigen::Matrix3d R =
         Eigen::Quaterniond(Eigen::Vector4d(u(rng), u(rng), u(rng), u(rng)).normalized()).toRotationMatrix();
     const Eigen::Vector3d d(0.05 + 0.05 * std::abs(u(rng)), 0.2 + 0.1 * std::abs(u(rng)), 0.25 + 0.1 * std::abs(u(rng)));
     const Eigen::Matrix3d I = R * d.asDiagonal() * R.transpose();
-    expect_same_solution(I, Eigen::Vector3d(u(rng), u(rng), u(rng)));
+    expect_same_ldlt3_solution(I, Eigen::Vector3d(u(rng), u(rng), u(rng)));
   }
 }
 
@@ -67,9 +67,9 @@ TEST(Ldlt3, DegenerateMatricesAsEigen) {
     Eigen::Matrix3d M;
     for (int i = 0; i < 9; ++i) M(i) = pick(rng);
     const Eigen::Matrix3d A = M + M.transpose();
-    expect_same_solution(A, Eigen::Vector3d(pick(rng), pick(rng), 1.0));
+    expect_same_ldlt3_solution(A, Eigen::Vector3d(pick(rng), pick(rng), 1.0));
   }
-  expect_same_solution(Eigen::Matrix3d::Zero(), Eigen::Vector3d(1.0, 2.0, 3.0));
+  expect_same_ldlt3_solution(Eigen::Matrix3d::Zero(), Eigen::Vector3d(1.0, 2.0, 3.0));
 }
 
 }  // namespace

@@ -15,7 +15,7 @@ namespace {
 using Matrix6 = Eigen::Matrix<double, 6, 6>;
 using Vector6 = Eigen::Matrix<double, 6, 1>;
 
-void expect_same_solution(const Matrix6& A, const Vector6& b) {
+void expect_same_ldlt6_solution(const Matrix6& A, const Vector6& b) {
   const Vector6 ref = A.ldlt().solve(b);
   const Vector6 got = Ldlt6(A).solve(b);
   for (int i = 0; i < 6; ++i)
@@ -32,7 +32,7 @@ TEST(Ldlt6, EqualsEigenLdltOnRandomSymmetricMatrices) {
     const Matrix6 A = k % 2 ? Matrix6(M + M.transpose()) : Matrix6(M * M.transpose());
     Vector6 b;
     for (int i = 0; i < 6; ++i) b[i] = 10.0 * u(rng);
-    expect_same_solution(A, b);
+    expect_same_ldlt6_solution(A, b);
   }
 }
 
@@ -50,7 +50,7 @@ TEST(Ldlt6, EqualsEigenLdltOnFloatingBaseSystems) {
     }
     Vector6 b;
     for (int i = 0; i < 6; ++i) b[i] = 100.0 * u(rng);
-    expect_same_solution(A, b);
+    expect_same_ldlt6_solution(A, b);
   }
 }
 
@@ -62,9 +62,9 @@ TEST(Ldlt6, DegenerateMatricesAsEigen) {
     for (int i = 0; i < 36; ++i) M(i) = pick(rng);
     Vector6 b;
     for (int i = 0; i < 6; ++i) b[i] = pick(rng);
-    expect_same_solution(Matrix6(M + M.transpose()), b);
+    expect_same_ldlt6_solution(Matrix6(M + M.transpose()), b);
   }
-  expect_same_solution(Matrix6::Zero(), Vector6::Ones());
+  expect_same_ldlt6_solution(Matrix6::Zero(), Vector6::Ones());
 }
 
 }  // namespace

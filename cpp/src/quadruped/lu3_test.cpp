@@ -15,7 +15,7 @@ namespace {
 // Bit patterns equal (NaN payloads included), so that "the same numbers" holds for inf and NaN.
 bool same_bits(double a, double b) { return std::memcmp(&a, &b, sizeof(double)) == 0; }
 
-void expect_same_solution(const Eigen::Matrix3d& A, const Eigen::Vector3d& b) {
+void expect_same_lu3_solution(const Eigen::Matrix3d& A, const Eigen::Vector3d& b) {
   const Eigen::Vector3d ref = A.partialPivLu().solve(b);
   const Eigen::Vector3d got = Lu3(A).solve(b);
   for (int i = 0; i < 3; ++i)
@@ -30,7 +30,7 @@ TEST(Lu3, EqualsEigenPartialPivLuBitForBit) {
     Eigen::Matrix3d A;
     for (int i = 0; i < 9; ++i) A(i) = u(rng) * std::pow(10.0, 3.0 * u(rng));
     const Eigen::Vector3d b(u(rng), 10.0 * u(rng), 100.0 * u(rng));
-    expect_same_solution(A, b);
+    expect_same_lu3_solution(A, b);
   }
 }
 
@@ -42,7 +42,7 @@ TEST(Lu3, TiesZerosAndSingularMatricesAsEigen) {
     Eigen::Matrix3d A;
     for (int i = 0; i < 9; ++i) A(i) = pick(rng);
     const Eigen::Vector3d b(pick(rng), pick(rng), 1.0);
-    expect_same_solution(A, b);
+    expect_same_lu3_solution(A, b);
   }
 }
 
@@ -55,8 +55,8 @@ TEST(Lu3, LegJacobianShapesAsEigen) {
     J << 0.0, -0.2 + 0.05 * u(rng), -0.1 * u(rng), 0.08 * u(rng), 0.1 * u(rng), 0.05 * u(rng),
         -0.3 + 0.05 * u(rng), 0.02 * u(rng), 0.2 * u(rng);
     const Eigen::Vector3d b(10.0 * u(rng), 10.0 * u(rng), 10.0 * u(rng));
-    expect_same_solution(J, b);
-    expect_same_solution(J.transpose(), b);
+    expect_same_lu3_solution(J, b);
+    expect_same_lu3_solution(J.transpose(), b);
   }
 }
 
