@@ -218,15 +218,13 @@ void ChainRne::inverse_dynamics(const double* q, const double* qd, const double*
   backward(tau, qdd, root_wrench);
 }
 
-void ChainRne::gravity_torque(const double* q, const Eigen::Vector3d& gravity, double* tau,
-                              const double* cos_q, const double* sin_q) noexcept {
+void ChainRne::gravity_torque(const double* q, const Eigen::Vector3d& gravity, double* tau) noexcept {
   Eigen::Vector3d a_p = -gravity;  // no velocity and no angular acceleration anywhere
   for (size_t i = 0; i < segments_.size(); ++i) {
     const Segment& s = segments_[i];
     State& x = state_[i];
     const double qi = s.kind != Kind::kFixed ? q[s.joint] : 0.0;
-    if (cos_q && s.kind == Kind::kRevolute) pose(s, qi, cos_q[s.joint], sin_q[s.joint], x);
-    else pose(s, qi, x);
+    pose(s, qi, x);
     x.a.noalias() = x.rot.transpose() * a_p;
     if (s.has_inertia) {
       x.f = s.mass * x.a;

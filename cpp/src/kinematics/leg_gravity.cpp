@@ -1,27 +1,99 @@
 #include "kiloloop/kinematics/leg_gravity.hpp"
 
+#include <algorithm>
+#include <cmath>
+#include <random>
+
+#include <Eigen/QR>
+
 namespace kiloloop {
 
+// b[3 u + v] = U_u V_v, U = {1, c1, s1, c12, s12}, V = {1, c0, s0}.
+void LegGravity::terms(const LegKinematics::Trig& t, double* b) noexcept {
+  const double U[5] = {1.0, t.c1, t.s1, t.c12, t.s12};
+  for (int u = 0; u < 5; ++u) {
+    b[3 * u] = U[u];
+    b[3 * u + 1] = U[u] * t.c0;
+    b[3 * u + 2] = U[u] * t.s0;
+  }
+}
+
 Status LegGravity::configure(const RobotModel& model, const std::string& trunk, const std::string& foot,
-                             LegGravity* out, std::string* why) {
-  KDL::Chain chain;
-  if (!model.tree().getChain(trunk, foot, chain) || chain.getNrOfJoints() != 3) {
-    if (why) *why = "leg '" + foot + "': no 3-joint chain from '" + trunk + "'";
+                             const LegKinematics& kinematics, LegGravity* out, std::string* why) {
+  auto fail = [&](const std::string& what) {
+    if (why) *why = "leg '" + foot + "': " + what;
     return Status::kModelError;
+  };
+  KDL::Chain chain;
+  if (!model.tree().getChain(trunk, foot, chain) || chain.getNrOfJoints() != 3)
+    return fail("no 3-joint chain from '" + trunk + "'");
+  ChainRne rne;
+  const Status s = ChainRne::configure(chain, &rne, why);
+  if (s != Status::kOk) return s;
+  // Fit: the first moment at 60 poses over the joints' whole circle (deterministic), least squares.
+  std::mt19937 rng(20261125);
+  std::uniform_real_distribution<double> angle(-M_PI, M_PI);
+  constexpr int kFit = 60;
+  Eigen::Matrix<double, kFit, kTerms> B;
+  Eigen::Matrix<double, kFit, 3> M;
+  for (int k = 0; k < kFit; ++k) {
+    const Eigen::Vector3d q(angle(rng), angle(rng), angle(rng));
+    Eigen::Vector3d foot_pos, moment;
+    Eigen::Matrix3d J;
+    LegKinematics::Trig trig;
+    kinematics.foot_and_jacobian(q, &foot_pos, &J, &trig);
+    double b[kTerms];
+    terms(trig, b);
+    for (int j = 0; j < kTerms; ++j) B(k, j) = b[j];
+    double mass = 0.0;
+    rne.first_moment(q.data(), &moment, &mass);
+    M.row(k) = moment.transpose();
   }
   LegGravity g;
-  const Status s = ChainRne::configure(chain, &g.rne_, why);
-  if (s != Status::kOk) return s;
+  g.kinematics_ = kinematics;
+  g.moment_ = B.colPivHouseholderQr().solve(M);
+  // Check: torques against ChainRne's gravity pass at other poses and gravity directions.
+  double worst = 0.0, scale = 0.0;
+  for (int k = 0; k < 40; ++k) {
+    const Eigen::Vector3d q(angle(rng), angle(rng), angle(rng));
+    const Eigen::Vector3d gravity = 9.81 * Eigen::Vector3d(angle(rng), angle(rng), angle(rng)).normalized();
+    Eigen::Vector3d ref;
+    rne.gravity_torque(q.data(), gravity, ref.data());
+    worst = std::max(worst, (g.torque(q, gravity) - ref).lpNorm<Eigen::Infinity>());
+    scale = std::max(scale, ref.lpNorm<Eigen::Infinity>());
+  }
+  if (!(worst <= 1e-9 * (1.0 + scale)) || !g.moment_.allFinite())
+    return fail("gravity torques off the abduction / pitch / knee form by " + std::to_string(worst) +
+                " N m (Newton-Euler's up to " + std::to_string(scale) + " N m)");
   *out = std::move(g);
   return Status::kOk;
 }
 
-Eigen::Vector3d LegGravity::torque(const Eigen::Vector3d& q, const Eigen::Vector3d& gravity_trunk,
-                                   const Eigen::Vector3d* cos_q, const Eigen::Vector3d* sin_q) noexcept {
-  Eigen::Vector3d tau;
-  rne_.gravity_torque(q.data(), gravity_trunk, tau.data(), cos_q ? cos_q->data() : nullptr,
-                      sin_q ? sin_q->data() : nullptr);
-  return tau;
+// tau_j = dV/dq_j = -(dM/dq_j) . g = -sum_b (d b / d q_j) w_b with w_b = moment_b . g: the terms'
+// derivatives through the kinematics' angles (q0 = sign0 q[0], p1 and p12 move with sign1 q[1],
+// p12 with sign2 q[2]).
+Eigen::Vector3d LegGravity::torque(const LegKinematics::Trig& t, const Eigen::Vector3d& gravity_trunk) const noexcept {
+  const Eigen::Matrix<double, kTerms, 1> w = moment_ * gravity_trunk;
+  const double U[5] = {1.0, t.c1, t.s1, t.c12, t.s12};
+  double d0 = 0.0;  // dV/dq0 (signed angle)
+  double W[5];      // w contracted with V = {1, c0, s0}
+#pragma GCC unroll 5
+  for (int u = 0; u < 5; ++u) {
+    d0 += U[u] * (t.c0 * w[3 * u + 2] - t.s0 * w[3 * u + 1]);
+    W[u] = w[3 * u] + t.c0 * w[3 * u + 1] + t.s0 * w[3 * u + 2];
+  }
+  const double d1 = t.c1 * W[2] - t.s1 * W[1];      // d/dp1
+  const double d12 = t.c12 * W[4] - t.s12 * W[3];   // d/dp12
+  const Eigen::Vector3d& sign = kinematics_.geometry().sign;
+  return Eigen::Vector3d(-sign[0] * d0, -sign[1] * (d1 + d12), -sign[2] * d12);
+}
+
+Eigen::Vector3d LegGravity::torque(const Eigen::Vector3d& q, const Eigen::Vector3d& gravity_trunk) const noexcept {
+  Eigen::Vector3d foot;
+  Eigen::Matrix3d J;
+  LegKinematics::Trig trig;
+  kinematics_.foot_and_jacobian(q, &foot, &J, &trig);
+  return torque(trig, gravity_trunk);
 }
 
 }  // namespace kiloloop

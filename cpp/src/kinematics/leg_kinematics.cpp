@@ -179,26 +179,9 @@ void LegKinematics::foot_and_jacobian(const Eigen::Vector3d& q, Eigen::Vector3d*
   *jacobian = jacobian_from(a);
   if (!trig) return;
   trig->pitch_axis = Eigen::Vector3d(0.0, a.c0, a.s0);
-  const double set_angle[2] = {a.q0, a.p1}, set_cos[2] = {a.c0, a.c1}, set_sin[2] = {a.s0, a.s1};
-  // The knee's bend beta = p12 - p1 = sign[2] q[2] + (a_shank - a_thigh): its sine and cosine
-  // from the set's, then those of sign[2] q[2] = beta - (a_shank - a_thigh), by the
-  // angle-difference formulas (12 products and sums for the 124 instructions of a sincos).
-  const double sin_beta = a.s12 * a.c1 - a.c12 * a.s1, cos_beta = a.c12 * a.c1 + a.s12 * a.s1;
-  trig->cos_q[2] = cos_beta * cos_bend_offset_ + sin_beta * sin_bend_offset_;
-  trig->sin_q[2] = g_.sign[2] * (sin_beta * cos_bend_offset_ - cos_beta * sin_bend_offset_);
-  for (int j = 0; j < 2; ++j) {
-    if (same_double(set_angle[j], q[j])) {
-      trig->cos_q[j] = set_cos[j];
-      trig->sin_q[j] = set_sin[j];
-    } else {
-      // Into locals side by side, so that GCC makes the two calls one sincos (glibc's sincos
-      // returns sin's and cos's doubles); stored between them, they stayed two calls (cos and
-      // sin: 162 instructions, the sincos 124).
-      const double c = std::cos(q[j]), sn = std::sin(q[j]);
-      trig->cos_q[j] = c;
-      trig->sin_q[j] = sn;
-    }
-  }
+  trig->c0 = a.c0, trig->s0 = a.s0;
+  trig->c1 = a.c1, trig->s1 = a.s1;
+  trig->c12 = a.c12, trig->s12 = a.s12;
 }
 
 Status LegKinematics::inverse(const Eigen::Vector3d& foot, Eigen::Vector3d& q) const noexcept {

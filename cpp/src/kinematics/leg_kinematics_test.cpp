@@ -155,10 +155,10 @@ TEST(LegKinematics, AnyAbductionPitchKneeLayout) {
   EXPECT_GT(round_trips, 250);
 }
 
-// foot_and_jacobian's trig: cos and sin of each joint angle itself, the knee's by angle
-// differences from the set (to rounding), on our legs (mirrored signs) and on the odd leg (knee
-// axis along -y, thigh and shank angled at q = 0).
-TEST(LegKinematics, TrigIsEachJointAnglesCosineAndSine) {
+// foot_and_jacobian's trig: the set's cosines and sines of the kinematics' angles (signs and
+// offsets applied), bit for bit std::cos / std::sin of them, on our legs (mirrored signs) and on
+// the odd leg (knee axis along -y, thigh and shank angled at q = 0).
+TEST(LegKinematics, TrigIsTheSetOfTheKinematicsAngles) {
   std::vector<LegGeometry> legs;
   const RobotModel model = *testing::load_quadruped();
   std::string why;
@@ -183,10 +183,15 @@ TEST(LegKinematics, TrigIsEachJointAnglesCosineAndSine) {
       Eigen::Matrix3d J;
       LegKinematics::Trig trig;
       leg.foot_and_jacobian(q, &p, &J, &trig);
-      for (int j = 0; j < 3; ++j) {
-        EXPECT_NEAR(trig.cos_q[j], std::cos(q[j]), 2e-15) << j;
-        EXPECT_NEAR(trig.sin_q[j], std::sin(q[j]), 2e-15) << j;
-      }
+      const Eigen::Vector3d qs = q.cwiseProduct(g.sign);
+      const double p1 = qs[1] + g.a_thigh, p12 = qs[1] + qs[2] + g.a_shank;
+      EXPECT_EQ(trig.c0, std::cos(qs[0]));
+      EXPECT_EQ(trig.s0, std::sin(qs[0]));
+      EXPECT_EQ(trig.c1, std::cos(p1));
+      EXPECT_EQ(trig.s1, std::sin(p1));
+      EXPECT_EQ(trig.c12, std::cos(p12));
+      EXPECT_EQ(trig.s12, std::sin(p12));
+      EXPECT_EQ(trig.pitch_axis, Eigen::Vector3d(0.0, trig.c0, trig.s0));
     }
   }
 }

@@ -184,7 +184,7 @@ Status QuadrupedController::configure(const QuadrupedConfig& config, RobotModelP
     if (failed(s)) return s;
     c.legs_[i] = LegKinematics(g);
     cfg.knees[i] = g.knee;
-    s = LegGravity::configure(*model, config.trunk_link, config.feet[i], &c.leg_gravity_[i], why);
+    s = LegGravity::configure(*model, config.trunk_link, config.feet[i], c.legs_[i], &c.leg_gravity_[i], why);
     if (failed(s)) return s;
     KDL::Chain chain;
     model->tree().getChain(config.trunk_link, config.feet[i], chain);
@@ -523,7 +523,7 @@ void QuadrupedController::leg_kinematics(const QuadrupedInput& in) noexcept {
     const Eigen::Vector3d q = in.q.segment<3>(3 * i);
     legs_[i].foot_and_jacobian(q, &k.meas[i].r, &k.J[i], &trig[i]);
     k.meas[i].v_rel = k.J[i] * in.qd.segment<3>(3 * i);
-    k.tau_gravity[i] = leg_gravity_[i].torque(q, g_trunk, &trig[i].cos_q, &trig[i].sin_q);
+    k.tau_gravity[i] = leg_gravity_[i].torque(trig[i], g_trunk);
   }
   // A spherical foot rolls: its contact point (radius below the centre, along the ground normal)
   // stands still, not its centre. Add the rolling term to what the estimator takes as the

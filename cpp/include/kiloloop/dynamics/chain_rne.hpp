@@ -42,11 +42,8 @@ class ChainRne {
   void inverse_dynamics(const double* q, const double* qd, const double* qdd, const Eigen::Vector3d& v0,
                         const Eigen::Vector3d& w0, const Eigen::Vector3d& a0, const Eigen::Vector3d& aw0,
                         double* tau, double* root_wrench) noexcept;
-  // tau = g(q): the same pass with qd = qdd = 0 (no velocity terms computed). cos_q, sin_q
-  // (optional, both or neither): cos and sin of each q where the caller has them already (its
-  // kinematics at the same q: LegGravity); the same numbers, not computed again.
-  void gravity_torque(const double* q, const Eigen::Vector3d& gravity, double* tau,
-                      const double* cos_q = nullptr, const double* sin_q = nullptr) noexcept;
+  // tau = g(q): the same pass with qd = qdd = 0 (no velocity terms computed).
+  void gravity_torque(const double* q, const Eigen::Vector3d& gravity, double* tau) noexcept;
 
   // The chain tip's pose in the root frame at q (rotation, position [m]): KDL's
   // ChainFkSolverPos_recursive over the same precomputed poses (trailing fixed frames included).

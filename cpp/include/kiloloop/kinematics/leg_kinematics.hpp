@@ -64,8 +64,7 @@ Status leg_geometry_from_model(const RobotModel& model, const std::string& trunk
 class LegKinematics {
  public:
   LegKinematics() = default;
-  explicit LegKinematics(const LegGeometry& g)
-      : g_(g), cos_bend_offset_(std::cos(g.a_shank - g.a_thigh)), sin_bend_offset_(std::sin(g.a_shank - g.a_thigh)) {}
+  explicit LegKinematics(const LegGeometry& g) : g_(g) {}
   const LegGeometry& geometry() const { return g_; }
 
   Eigen::Vector3d foot_position(const Eigen::Vector3d& q) const noexcept;  // trunk frame
@@ -75,12 +74,10 @@ class LegKinematics {
     // The hip pitch and knee axes' direction in the trunk frame: (0, cos, sin) of sign[0] q[0]
     // (the abduction turns them about x).
     Eigen::Vector3d pitch_axis;
-    // cos and sin of each q[j] itself (no axis sign, no offset), for a dynamics pass at the same
-    // q (LegGravity): the set's where its angle is that same double (an axis along +x / +y, a
-    // thigh straight below its hip at q = 0: most legs' abduction and hip pitch), computed
-    // otherwise; the knee's from the set's thigh and thigh + shank angles by the angle-difference
-    // formulas (to rounding, a few 1e-16).
-    Eigen::Vector3d cos_q, sin_q;
+    // The set itself: cos and sin of the abduction angle sign[0] q[0] (c0, s0), of the thigh's
+    // p1 = sign[1] q[1] + a_thigh (c1, s1) and of the shank's p12 = p1 + sign[2] q[2] + a_shank -
+    // a_thigh (c12, s12). LegGravity's torques are read off them.
+    double c0 = 1.0, s0 = 0.0, c1 = 1.0, s1 = 0.0, c12 = 1.0, s12 = 0.0;
   };
   // Both at once, equal to the two calls bit for bit: one set of the joint angles' sines and
   // cosines (the controller needs both for every leg every tick; three sin/cos pairs a set);
@@ -105,8 +102,6 @@ class LegKinematics {
   inline Eigen::Matrix3d jacobian_from(const Angles& a) const noexcept;
 
   LegGeometry g_;
-  // cos and sin of a_shank - a_thigh: the knee's bend at q = 0 (foot_and_jacobian's knee angle).
-  double cos_bend_offset_ = 1.0, sin_bend_offset_ = 0.0;
 };
 
 }  // namespace kiloloop
