@@ -7,6 +7,10 @@
 #include <Eigen/QR>
 
 namespace kiloloop {
+namespace {
+// pi [rad] (M_PI is POSIX, not ISO C++: firmware toolchains); its own name in the unity build
+constexpr double kHalfTurn = 3.14159265358979323846;
+}  // namespace
 
 // b[3 u + v] = U_u V_v, U = {1, c1, s1, c12, s12}, V = {1, c0, s0}.
 void LegGravity::terms(const LegKinematics::Trig& t, double* b) noexcept {
@@ -32,7 +36,7 @@ Status LegGravity::configure(const RobotModel& model, const std::string& trunk, 
   if (s != Status::kOk) return s;
   // Fit: the first moment at 60 poses over the joints' whole circle (deterministic), least squares.
   std::mt19937 rng(20261125);
-  std::uniform_real_distribution<double> angle(-M_PI, M_PI);
+  std::uniform_real_distribution<double> angle(-kHalfTurn, kHalfTurn);
   constexpr int kFit = 60;
   Eigen::Matrix<double, kFit, kTerms> B;
   Eigen::Matrix<double, kFit, 3> M;
