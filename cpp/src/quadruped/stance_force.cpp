@@ -107,8 +107,9 @@ double StanceForceQp::normal_force_cap(double load) const noexcept {
 // The answer is x only if it is finite and meets every constraint row exactly (no tolerance):
 // then the active-set solve would stop at its unconstrained start too, with the same x up to
 // rounding. Anything else, c = 0 included, goes to that solve.
-bool StanceForceQp::unconstrained_optimum(const Eigen::Matrix<double, 6, 1>& wrench, const int* legs,
-                                          int count, const Eigen::Vector3d (&rows)[4],
+bool StanceForceQp::unconstrained_optimum(const Eigen::Matrix<double, 6, 1>& wrench,
+                                          const std::array<Eigen::Vector3d, kLegs>& feet,
+                                          const int* legs, int count, const Eigen::Vector3d (&rows)[4],
                                           const Eigen::Vector3d& nrm,
                                           const std::array<double, kLegs>& load,
                                           Eigen::Matrix<double, 12, 1>& f) noexcept {
@@ -118,11 +119,9 @@ bool StanceForceQp::unconstrained_optimum(const Eigen::Matrix<double, 6, 1>& wre
   // Sums over the stance legs: R = sum r, P = sum r r' (lower triangle), |r|^2, and A f_prev.
   double R[3] = {0.0, 0.0, 0.0}, P[6] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0}, r2 = 0.0;
   double Af[6] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
-  Eigen::Vector3d r_of[kLegs];
   for (int a = 0; a < count; ++a) {
     const int i = legs[a];
-    const Eigen::Vector3d r(A_(5, 3 * i + 1), A_(3, 3 * i + 2), A_(4, 3 * i));
-    r_of[a] = r;
+    const Eigen::Vector3d& r = feet[i];
     const Eigen::Vector3d fp = f_prev_.segment<3>(3 * i);
     const Eigen::Vector3d m = r.cross(fp);
     for (int k = 0; k < 3; ++k) {
@@ -191,14 +190,15 @@ bool StanceForceQp::unconstrained_optimum(const Eigen::Matrix<double, 6, 1>& wre
   double Ax[6] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
   for (int a = 0; a < count; ++a) {
     const int i = legs[a];
-    const Eigen::Vector3d xi = b * f_prev_.segment<3>(3 * i) + yF + yM.cross(r_of[a]);
+    const Eigen::Vector3d& r = feet[i];
+    const Eigen::Vector3d xi = b * f_prev_.segment<3>(3 * i) + yF + yM.cross(r);
     for (int k = 0; k < 4; ++k)
       if (!(rows[k].dot(xi) <= 0.0)) return false;  // NaN fails too
     const double fn = nrm.dot(xi);
     if (!(fn >= cfg_.fz_min && fn <= normal_force_cap(load[i]))) return false;
     if (!xi.allFinite()) return false;
     x.segment<3>(3 * i) = xi;
-    const Eigen::Vector3d mi = r_of[a].cross(xi);
+    const Eigen::Vector3d mi = r.cross(xi);
     for (int k = 0; k < 3; ++k) {
       Ax[k] += xi[k];
       Ax[3 + k] += mi[k];
@@ -240,16 +240,16 @@ Status StanceForceQp::solve(const Eigen::Matrix<double, 6, 1>& wrench,
     f_prev_.setZero();
     return Status::kOk;
   }
-  for (int i = 0; i < kLegs; ++i) A_.block<3, 3>(3, 3 * i) = skew(feet[i]);
   // Tangents of the ground plane (any orthonormal pair perpendicular to n).
   const Eigen::Vector3d nrm = normal.normalized();
   const Eigen::Vector3d helper = std::abs(nrm.x()) < 0.9 ? Eigen::Vector3d::UnitX() : Eigen::Vector3d::UnitY();
   const Eigen::Vector3d t1 = (helper - helper.dot(nrm) * nrm).normalized(), t2 = nrm.cross(t1);
   const Eigen::Vector3d rows[4] = {t1 - cfg_.mu * nrm, -t1 - cfg_.mu * nrm, t2 - cfg_.mu * nrm,
                                    -t2 - cfg_.mu * nrm};
-  closed_form_ = unconstrained_optimum(wrench, legs, count, rows, nrm, load, f);
+  closed_form_ = unconstrained_optimum(wrench, feet, legs, count, rows, nrm, load, f);
   if (closed_form_) return Status::kOk;
 
+  for (int i = 0; i < kLegs; ++i) A_.block<3, 3>(3, 3 * i) = skew(feet[i]);  // the QP's H and g
   const auto S = cfg_.wrench_weight.asDiagonal();
   hessian_of_wrench(legs, count);
   H_.diagonal().head(n).array() += cfg_.regularization + cfg_.smoothing;

@@ -12,8 +12,6 @@
 // All vectors in the trunk frame [m]; FK, Jacobian and IK are noexcept and allocation-free.
 #include <string>
 
-#include <cmath>
-
 #include <Eigen/Core>
 
 #include "kiloloop/model/robot_model.hpp"

@@ -61,7 +61,8 @@ class StanceForceQp {
   void hessian_of_wrench(const int* legs, int count) noexcept;  // H_ = A_^T S A_ (stance_force.cpp)
   // The unconstrained optimum of the stance legs' forces in f, if it meets every constraint row
   // (rows: the friction pyramid's four, nrm: the unit normal); false leaves f alone.
-  bool unconstrained_optimum(const Eigen::Matrix<double, 6, 1>& wrench, const int* legs, int count,
+  bool unconstrained_optimum(const Eigen::Matrix<double, 6, 1>& wrench,
+                             const std::array<Eigen::Vector3d, kLegs>& feet, const int* legs, int count,
                              const Eigen::Vector3d (&rows)[4], const Eigen::Vector3d& nrm,
                              const std::array<double, kLegs>& load, Eigen::Matrix<double, 12, 1>& f) noexcept;
   double normal_force_cap(double load) const noexcept;  // [N], fz_max scaled by the load share
