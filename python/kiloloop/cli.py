@@ -34,6 +34,7 @@ def cmd_list(_args) -> int:
 
 def cmd_run(args) -> int:
     from . import scenarios
+    from .scenarios.scenario_file import ScenarioFileError
 
     try:
         module = scenarios.get(args.scenario)
@@ -43,7 +44,20 @@ def cmd_run(args) -> int:
         return 2
     if args.video:
         settings["video"] = args.video
-    result = scenarios.run(module, settings, robot, seed=args.seed, duration=args.duration)
+    try:
+        result = scenarios.run(module, settings, robot, seed=args.seed, duration=args.duration)
+        if args.baseline:
+            from .scenarios.scenario_file import baseline
+
+            result.criteria["baseline"] = baseline.compare(
+                result.log, args.baseline, {}, getattr(result, "components", None))
+    except ScenarioFileError as e:
+        print(f"kiloloop run: {e}", file=sys.stderr)
+        return 2
+    if args.save_baseline:
+        from .scenarios.scenario_file import baseline
+
+        baseline.save(result.log, args.save_baseline, result.log.names())
     if args.log:
         result.log.save(args.log)
     if args.plot:
@@ -54,8 +68,14 @@ def cmd_run(args) -> int:
     if args.json:
         print(json.dumps(result.to_json()))
     else:
-        _print_summary(result, settings)
-        for label, path in (("log", args.log), ("plot", args.plot), ("video", args.video)):
+        if hasattr(module, "scenario"):   # a scenario file: its criteria table says it all
+            from .scenarios.scenario_file.report import summary
+
+            print(summary(result))
+        else:
+            _print_summary(result, settings)
+        for label, path in (("log", args.log), ("plot", args.plot), ("video", args.video),
+                            ("baseline", args.save_baseline)):
             if path:
                 print(f"  {label}: {path}")
     return 0 if result.passed else 1
@@ -99,6 +119,20 @@ def cmd_bench(args) -> int:
     return run_benchmarks(quick=args.quick, as_json=args.json, robot=args.robot)
 
 
+def cmd_signals(args) -> int:
+    from .robot import Robot
+    from .scenarios.scenario_file.signals import components_of, table
+
+    try:
+        robot = Robot.load(args.robot)
+    except (ValueError, FileNotFoundError) as e:
+        print(f"kiloloop signals: {e}", file=sys.stderr)
+        return 2
+    print(f"signals of {robot.name} ({robot.kind}); every one against t [s]:")
+    print(table(robot.kind, components_of(robot)))
+    return 0
+
+
 def cmd_robot_check(args) -> int:
     from .robot.check import check
 
@@ -140,7 +174,7 @@ def cmd_b2b(args) -> int:
 
     try:
         result = run_b2b(args.robot, duration=args.duration, seed=args.seed,
-                         sets=_robot_sets(args.set), work=args.work)
+                         sets=_robot_sets(args.set), work=args.work, scenario=args.scenario)
     except (KeyError, ValueError, BuildError) as e:
         print(f"kiloloop b2b: {e.args[0]}", file=sys.stderr)
         return 2
@@ -152,9 +186,11 @@ def main(argv=None) -> int:
     sub = parser.add_subparsers(dest="command", required=True)
     sub.add_parser("list", help="list the SIL scenarios").set_defaults(func=cmd_list)
     run = sub.add_parser("run", help="run one SIL scenario")
-    run.add_argument("scenario")
+    run.add_argument("scenario", metavar="SCENARIO|FILE.toml",
+                     help="a built-in scenario (kiloloop list) or a scenario file (docs/scenarios.md)")
     run.add_argument("--duration", type=float, default=None, help="simulated time [s]")
-    run.add_argument("--seed", type=int, default=0, help="seed for noise and randomness")
+    run.add_argument("--seed", type=int, default=None,
+                     help="seed for noise and randomness (default: the file's, else 0)")
     run.add_argument("--robot", default=None, metavar="NAME|FILE",
                      help="robot name in models/ or a robot file (default: the scenario's own)")
     run.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",
@@ -164,6 +200,11 @@ def main(argv=None) -> int:
     run.add_argument("--plot", metavar="PNG", help="write a plot")
     run.add_argument("--log", metavar="NPZ", help="write the signal log")
     run.add_argument("--video", metavar="MP4", help="render the run (MuJoCo offscreen, 30 fps)")
+    run.add_argument("--save-baseline", metavar="NPZ",
+                     help="write the run's signals as a baseline for later runs")
+    run.add_argument("--baseline", metavar="NPZ",
+                     help="compare the run with a baseline, every signal bit for bit (a "
+                          "scenario file's [baseline] table sets tolerances)")
     run.set_defaults(func=cmd_run)
     sweep = sub.add_parser("sweep", help="run a scenario over a grid of settings, in parallel")
     sweep.add_argument("scenario")
@@ -189,6 +230,10 @@ def main(argv=None) -> int:
     bench.add_argument("--robot", default=None, metavar="NAME|FILE",
                        help="also time the SIL loop and steps of this robot")
     bench.set_defaults(func=cmd_bench)
+    signals = sub.add_parser("signals", help="the signals a scenario file's criteria, "
+                                             "baselines and plots read, for one robot")
+    signals.add_argument("robot", metavar="NAME|FILE")
+    signals.set_defaults(func=cmd_signals)
     robot = sub.add_parser("robot", help="robot files: check one")
     robot_sub = robot.add_subparsers(dest="robot_command", required=True)
     check = robot_sub.add_parser("check", help="load everything, print what was derived")
@@ -204,8 +249,13 @@ def main(argv=None) -> int:
     b2b = sub.add_parser("b2b", help="back-to-back: SIL log replayed through the exported "
                                      "firmware, outputs compared bit for bit")
     b2b.add_argument("robot", metavar="NAME|FILE")
-    b2b.add_argument("--duration", type=float, default=1.0, help="simulated time [s] (default 1)")
-    b2b.add_argument("--seed", type=int, default=0)
+    b2b.add_argument("--duration", type=float, default=None,
+                     help="simulated time [s] (default: the scenario file's, else 1)")
+    b2b.add_argument("--seed", type=int, default=None,
+                     help="default: the scenario file's, else 0")
+    b2b.add_argument("--scenario", default=None, metavar="FILE.toml",
+                     help="record the SIL run of this scenario file (default: the family's "
+                          "built-in b2b scenario)")
     b2b.add_argument("--set", action="append", default=[], metavar="KEY=VALUE")
     b2b.add_argument("--work", default=None, metavar="DIR",
                      help="build directory (default: build/firmware of the source tree)")

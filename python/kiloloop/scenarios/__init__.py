@@ -84,6 +84,12 @@ def names() -> list[str]:
 
 
 def get(name: str):
+    """A built-in scenario's module by name, or a scenario file (a path ending in .toml) seen as
+    one (scenario_file/as_module.py: ScenarioFileError, a ValueError, when it is broken)."""
+    if str(name).endswith(".toml"):
+        from .scenario_file.as_module import FileScenario
+
+        return FileScenario(name)
     if name not in _MODULES:
         raise KeyError(f"unknown scenario {name!r}; known: {', '.join(_MODULES)}")
     return importlib.import_module(f"{__name__}.{_MODULES[name]}")
@@ -109,7 +115,7 @@ def default_robot(module) -> str:
 
 
 def kind_of(module) -> str:
-    return module.NAME.split("-")[0]
+    return getattr(module, "KIND", None) or module.NAME.split("-")[0]
 
 
 def prepare(module, robot=None, overrides: list[str] | dict | None = None):
@@ -122,11 +128,15 @@ def prepare(module, robot=None, overrides: list[str] | dict | None = None):
 
     from ..robot import Robot
 
+    if hasattr(module, "prepare"):   # a scenario file: its own layering and error keys
+        return module.prepare(robot, overrides)
     robot_sets, scenario_sets = split_overrides(overrides)
     if not isinstance(robot, Robot):
         robot = Robot.load(default_robot(module) if robot is None else robot)
-    if robot_sets:
-        robot = robot.with_overrides(robot_sets)
+    # A scenario file's own robot-file settings first, then the overrides'.
+    for sets in (getattr(module, "ROBOT_OVERRIDES", {}), robot_sets):
+        if sets:
+            robot = robot.with_overrides(sets)
     if robot.kind != kind_of(module):
         raise ValueError(f"{module.NAME} needs a robot of kind '{kind_of(module)}'; "
                          f"{robot.name} is '{robot.kind}'")
@@ -150,9 +160,12 @@ def run_named(name: str, robot=None, overrides: list[str] | dict | None = None, 
     return run(module, settings, robot, seed=seed, duration=duration)
 
 
-def run(module, settings: dict, robot, seed: int = 0, duration=None):
-    """module.run with the robot when the scenario reads robot files."""
+def run(module, settings: dict, robot, seed: int | None = 0, duration=None):
+    """module.run with the robot when the scenario reads robot files. seed None: the
+    scenario's own (a scenario file's `seed`, else 0)."""
     import inspect
+
+    seed = getattr(module, "SEED", 0) if seed is None else seed
 
     if "robot" in inspect.signature(module.run).parameters:
         return module.run(settings, seed=seed, duration=duration, robot=robot)

@@ -187,10 +187,11 @@ def ticks_of(duration: float, control_dt: float = 0.001) -> int:
 
 def rollout(plant, adapter, duration: float, *, data=None, delay_ticks: int = 0,
             nonideal: NonIdeal | None = None, events=(), observe: Observe | None = None,
-            control_dt: float = 0.001):
+            control_dt: float = 0.001, stages=()):
     """A configured native Rollout of an arm-shaped plant (sil/plant.py MujocoPlant: y = [q; qd]
     from its joint sensors, u = its motors). data: another MjData of plant.model (a batch gives
-    each rollout its own); default the plant's own. Run it with .run() or batch.run()."""
+    each rollout its own); default the plant's own; stages: C++ measurement stages after the
+    sensor model (a sensor dropout). Run it with .run() or batch.run()."""
     check()
     nonideal = nonideal or NonIdeal()
     sigma, quantum = nonideal.arrays(plant.nq)
@@ -201,7 +202,7 @@ def rollout(plant, adapter, duration: float, *, data=None, delay_ticks: int = 0,
         actuators=[int(a) for a in plant._act], delay_ticks=int(delay_ticks), sigma=sigma,
         quantum=quantum, seed=int(nonideal.seed), motor_delay_ticks=int(nonideal.motor_delay_ticks),
         motor_time_constant=float(nonideal.motor_time_constant), events=list(events),
-        probes=observe.probes(plant) if observe is not None else [])
+        probes=observe.probes(plant) if observe is not None else [], stages=list(stages))
 
 
 def signal_log(r, log: SignalLog | None = None) -> SignalLog:

@@ -1,0 +1,75 @@
+"""What a scenario file's run shows: the criteria table (text), the plot of the signals its
+criteria read (each with its reference where it has one), the log with the signals' units."""
+from __future__ import annotations
+
+import math
+
+from .signals import BY_FAMILY
+
+# A signal's reference, drawn dashed beside it.
+REFERENCE_OF = {"q": "q_ref", "ee": "ee_ref", "vx": "vx_ref", "vy": "vy_ref",
+                "yaw_rate": "yaw_rate_ref", "position": "position_ref"}
+
+
+def _value(v) -> str:
+    return f"{v:.4g}" if isinstance(v, float) and not math.isnan(v) else str(v)
+
+
+def criteria_table(result) -> str:
+    """One line per criterion: mark, row, value, condition (and why, when it could not be
+    computed or the baseline differs)."""
+    lines = []
+    width = max([len(k) for k in result.criteria] + [8])
+    for key, row in result.criteria.items():
+        mark = "ok  " if row["passed"] else "FAIL"
+        cond = "baseline" if key == "baseline" else f"{row['op']} {row['threshold']:g}"
+        value = "" if key == "baseline" else f" = {_value(row['value'])}"
+        line = f"  {mark} {key:<{width}}{value}  ({cond})"
+        if row.get("reason"):
+            line += f": {row['reason']}"
+        lines.append(line)
+    return "\n".join(lines) if lines else "  (no criteria)"
+
+
+def summary(result) -> str:
+    s = result.settings
+    head = (f"scenario {result.scenario}: {'PASSED' if result.passed else 'FAILED'}  "
+            f"(robot {s.get('robot')}, {s.get('duration'):g} s, seed {s.get('seed')})")
+    return head + "\n  criteria:\n" + criteria_table(result)
+
+
+def plot_panels(result, family: str) -> list[tuple]:
+    """(title, signal, reference or None, unit) per signal the criteria read (their order),
+    or the family's main signals when there are no criteria."""
+    names = []
+    for row in result.criteria.values():
+        name = row.get("signal")
+        if name and name not in names:
+            names.append(name)
+    if not names:
+        names = {"arm": ["q", "ee_error", "tau"], "quadruped": ["vx", "roll", "pitch", "height"],
+                 "aerial": ["position", "position_error", "attitude_error"]}[family]
+    table = BY_FAMILY[family]
+    return [(n, n, REFERENCE_OF.get(n) if REFERENCE_OF.get(n) in
+             result.log else None, table[n].unit) for n in names if n in result.log]
+
+
+def thresholds(result) -> dict:
+    """signal -> [(op, threshold, criterion row)] for the plot's threshold lines."""
+    out = {}
+    for key, row in result.criteria.items():
+        if row.get("signal") and math.isfinite(row.get("threshold", math.nan)):
+            out.setdefault(row["signal"], []).append((row["op"], row["threshold"], key))
+    return out
+
+
+def write_plot(result, path, family: str):
+    from ...plot import plot_log
+
+    return plot_log(result.log, plot_panels(result, family), path,
+                    title=f"{result.scenario} ({result.settings.get('robot')})")
+
+
+def write_log(result, path, family: str):
+    """The run's log (.npz) with every signal of the family table and the raw channels."""
+    return result.log.save(path)
