@@ -235,8 +235,27 @@ def test_signals_command_lists_units_and_components(capsys):
 
 
 def test_builtin_files_ship_and_pass(capsys):
-    files = sorted((kl.models_dir().parent / "scenarios" / "files").glob("*.toml"))
+    from kiloloop import scenarios
+
+    files = scenarios.example_files()
+    rc, out, _ = run_cli(["list"], capsys)
+    assert rc == 0 and all(str(f) in out for f in files)
     assert {f.stem for f in files} >= {"arm-waypoints", "quadruped-walk-push", "aerial-setpoints"}
     for path in files:
         rc, out, _ = run_cli(["run", str(path)], capsys)
         assert rc == 0, (path, out)
+
+
+@pytest.mark.parametrize("name", ["ur10", "go1", "iris"])
+def test_b2b_over_a_scenario_file(firmware_prefix, tmp_path, name):
+    """kiloloop b2b ROBOT --scenario FILE: that run's controller inputs replayed through the
+    firmware build, bit for bit (one file of each family, from the user repository)."""
+    from kiloloop.firmware.b2b import run_b2b
+
+    paths = user_repo.write(tmp_path)
+    robot = tmp_path / "robots" / f"{name}.toml"
+    result = run_b2b(str(robot), scenario=str(paths[name]), prefix=firmware_prefix,
+                     work=Path(__file__).resolve().parents[1] / "build" / "firmware",
+                     echo=lambda *_: None)
+    assert result.identical, result.replay_output
+    assert result.ticks == int(round(sf.load(paths[name]).duration / 0.001))

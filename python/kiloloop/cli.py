@@ -29,6 +29,9 @@ def cmd_list(_args) -> int:
 
     for name in scenarios.names():
         print(f"{name:<20} {scenarios.get(name).DESCRIPTION}")
+    print("\nscenario files to copy and edit (docs/scenarios.md):")
+    for path in scenarios.example_files():
+        print(f"  {path}")
     return 0
 
 

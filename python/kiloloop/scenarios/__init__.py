@@ -83,6 +83,13 @@ def names() -> list[str]:
     return list(_MODULES)
 
 
+def example_files() -> list:
+    """The scenario files that ship with kiloloop (scenarios/files/), one or more per family."""
+    from pathlib import Path
+
+    return sorted((Path(__file__).parent / "files").glob("*.toml"))
+
+
 def get(name: str):
     """A built-in scenario's module by name, or a scenario file (a path ending in .toml) seen as
     one (scenario_file/as_module.py: ScenarioFileError, a ValueError, when it is broken)."""
