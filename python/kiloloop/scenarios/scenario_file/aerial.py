@@ -62,7 +62,9 @@ def run(scenario, robot, settings: dict, seed: int, duration: float, video: str 
                                                               f"events[{i}].body")
             payloads.append((common.ticks(e.t), body, e))
     nq = rig.plant.nq
-    stages = common.dropout_stages(scenario.events, {"imu": (6, 10), "joints": (16, 2 * nq)})
+    # y = [position (3); velocity (3); gyro; accel; quat; q (nq); qd (nq)] (AerialRig.measurement)
+    stages = common.dropout_stages(scenario.events, {"position": (0, 6), "imu": (6, 10),
+                                                     "joints": (16, 2 * nq)})
     if not settings["native"]:
         if payloads or stages:
             raise ValueError("settings.native = false (the per-tick loop, b2b's recording) runs "

@@ -5,8 +5,9 @@
                     vehicle's CoM) or the chain's tip (arm), or on `body` (a link name)
     rotor_fault     rotor (robot file order, from 0), efficiency (0..1 of thrust and drag torque)
     estop           the e-stop input goes high: an arm's supervisor stops it and holds (arms only)
-    sensor_dropout  sensor = "imu" | "joints", duration [s]: the measurement stays frozen at its
-                    last sample (a bus that stops updating; the controller is not told)
+    sensor_dropout  sensor = "imu" | "joints" | "position" (a multirotor's motion capture),
+                    duration [s]: the measurement stays frozen at its last sample (a bus that
+                    stops updating; the controller is not told)
     payload         mass [kg], com = [x, y, z] [m] in the body's frame: a point mass rigidly
                     attached to the tip (arm) or the base, or to `body`
 """
@@ -47,7 +48,7 @@ class Estop:
 @dataclass(frozen=True)
 class SensorDropout:
     t: float
-    sensor: str             # imu | joints
+    sensor: str             # imu | joints | position
     duration: float
 
 
@@ -71,7 +72,7 @@ KINDS = {
 FAMILIES = {"push": {"arm", "quadruped", "aerial"}, "rotor_fault": {"aerial"}, "estop": {"arm"},
             "sensor_dropout": {"arm", "quadruped", "aerial"},
             "payload": {"arm", "quadruped", "aerial"}}
-SENSORS = ("imu", "joints")
+SENSORS = ("imu", "joints", "position")
 
 
 def _number(value, what: str, lo=-math.inf, hi=math.inf, strict_lo=False) -> float:
