@@ -170,6 +170,7 @@ def test_block(block: Block, scratch, cli_help):
         _run([sys.executable, "-c", block.text], cwd, scratch.env, block.id)
     else:
         script = console_commands(block.text) if block.lang == "console" else block.text
+        assert script.strip(), f"{block.id}: no command in it"
         _run(["bash", "-e", "-x", "-c", script], cwd, scratch.env, block.id)
 
 
