@@ -215,7 +215,7 @@ def synopsis_commands(text: str) -> list[str]:
     """`kiloloop ...` lines of a text block, each with its indented continuation lines."""
     commands = []
     for line in text.splitlines():
-        if line.startswith("kiloloop "):
+        if re.match(r"kiloloop [a-z][\w-]*(\s|$)", line):  # not `kiloloop run: ...` (a message)
             commands.append(re.split(r"\s{2,}", line)[0])  # before its comment or description
         elif commands and line.startswith(" ") and line.strip().startswith("["):
             commands[-1] += " " + line.strip()
