@@ -151,12 +151,19 @@ def run_named(name: str, robot=None, overrides: list[str] | dict | None = None, 
 
 
 def run(module, settings: dict, robot, seed: int = 0, duration=None):
-    """module.run with the robot when the scenario reads robot files."""
+    """module.run with the robot when the scenario reads robot files; the log comes back
+    described (units, component names: scenarios/signals.py)."""
     import inspect
 
+    from .signals import describe
+
     if "robot" in inspect.signature(module.run).parameters:
-        return module.run(settings, seed=seed, duration=duration, robot=robot)
-    return module.run(settings, seed=seed, duration=duration)
+        result = module.run(settings, seed=seed, duration=duration, robot=robot)
+    else:
+        result = module.run(settings, seed=seed, duration=duration)
+    if result.log is not None:
+        describe(result.log, kind_of(module), robot)
+    return result
 
 
 def parse_settings(defaults: dict, overrides: list[str] | dict | None) -> dict:
