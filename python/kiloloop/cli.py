@@ -64,10 +64,10 @@ def cmd_run(args) -> int:
     if args.log:
         result.log.save(args.log)
     if args.plot:
-        from .plot import plot_log
+        from .scenarios.plots import plot_result
 
         title = f"{result.scenario} ({settings.get('controller', '')})".replace(" ()", "")
-        plot_log(result.log, module.plot_signals(), args.plot, title=title)
+        plot_result(result, module.plot_signals(), args.plot, title=title)
     if args.json:
         print(json.dumps(result.to_json()))
     else:

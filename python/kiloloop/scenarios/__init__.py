@@ -55,6 +55,8 @@ class ScenarioResult:
     criteria: dict[str, dict] = field(default_factory=dict)
     log: SignalLog | None = None
     settings: dict = field(default_factory=dict)
+    components: dict = field(default_factory=dict)   # signal -> component names (files' signals)
+    scenario_file: object = None                      # the ScenarioFile a file's run came from
 
     @property
     def passed(self) -> bool:
@@ -168,15 +170,22 @@ def run_named(name: str, robot=None, overrides: list[str] | dict | None = None, 
 
 
 def run(module, settings: dict, robot, seed: int | None = 0, duration=None):
-    """module.run with the robot when the scenario reads robot files. seed None: the
-    scenario's own (a scenario file's `seed`, else 0)."""
+    """module.run with the robot when the scenario reads robot files; the log comes back
+    described (units, component names: scenarios/signals.py). seed None: the scenario's own
+    (a scenario file's `seed`, else 0)."""
     import inspect
+
+    from .signals import describe
 
     seed = getattr(module, "SEED", 0) if seed is None else seed
 
     if "robot" in inspect.signature(module.run).parameters:
-        return module.run(settings, seed=seed, duration=duration, robot=robot)
-    return module.run(settings, seed=seed, duration=duration)
+        result = module.run(settings, seed=seed, duration=duration, robot=robot)
+    else:
+        result = module.run(settings, seed=seed, duration=duration)
+    if result.log is not None and result.scenario_file is None:   # a file's run describes its own
+        describe(result.log, kind_of(module), robot)
+    return result
 
 
 def parse_settings(defaults: dict, overrides: list[str] | dict | None) -> dict:

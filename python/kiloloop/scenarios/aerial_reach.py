@@ -9,9 +9,10 @@ import numpy as np
 
 import kiloloop as kl
 
-from ..sil.aerial_rig import (AERIAL_PLOT, COMMON_DEFAULTS, CONTROL_DT, add_derived, diverged,
+from ..sil.aerial_rig import (COMMON_DEFAULTS, CONTROL_DT, add_derived, diverged,
                               reference_row, rig_from_settings)
 from . import ScenarioResult, evaluate
+from .plots import AERIAL_PLOT
 
 NAME = "aerial-reach"
 DESCRIPTION = "end effector tracks a straight line (quintic, slerp orientation) while hovering"

@@ -429,13 +429,6 @@ def rig_from_settings(settings: dict, seed: int, config=None, robot=None) -> Aer
     return rig
 
 
-AERIAL_PLOT = [("body position", "base_pos", None, "m"),
-               ("attitude error (rotation vector)", "att_err_deg", None, "deg"),
-               ("rotor thrust", "thrust", None, "N"),
-               ("arm joints", "q", None, "rad"),
-               ("arm torque", "tau", None, "N m")]
-
-
 def add_derived(log) -> None:
     """Attitude error vs the commanded attitude (deg), for plots and metrics."""
     log.put("att_err_deg", np.degrees(rotation_vector_error(log["base_quat"], log["quat_des"])))

@@ -405,13 +405,6 @@ def fallen(log, min_height: float = 0.15, max_tilt_deg: float = 45.0) -> bool:
     return bool(np.any(log["base_pos"][:, 2] < min_height) or np.any(tilt > max_tilt_deg))
 
 
-QUADRUPED_PLOT = [("trunk position", "base_pos", None, "m"),
-                  ("trunk velocity (world)", "base_vel", None, "m/s"),
-                  ("roll, pitch", "roll_pitch_deg", None, "deg"),
-                  ("ground reaction, vertical", "foot_fz", None, "N"),
-                  ("contact detected", "contact", None, "-")]
-
-
 def add_derived(log) -> None:
     """Series the plots and metrics share: roll/pitch in degrees, vertical foot forces."""
     roll, pitch = roll_pitch(log["base_quat"])

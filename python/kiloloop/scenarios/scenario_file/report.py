@@ -55,19 +55,26 @@ def plot_panels(result, family: str) -> list[tuple]:
 
 
 def thresholds(result) -> dict:
-    """signal -> [(op, threshold, criterion row)] for the plot's threshold lines."""
+    """signal -> [(op, value, label, t0)] (kiloloop.plot's thresholds) of the file's criteria
+    on a whole signal or one component: max_abs and rms bounds drawn both ways as a guide (the
+    label names the function), each from its window's start."""
     out = {}
-    for key, row in result.criteria.items():
-        if row.get("signal") and math.isfinite(row.get("threshold", math.nan)):
-            out.setdefault(row["signal"], []).append((row["op"], row["threshold"], key))
+    for c in result.scenario_file.criteria:
+        if c.component is not None or not math.isfinite(c.threshold):
+            continue
+        t0 = c.t0 or None
+        lines = out.setdefault(c.signal, [])
+        lines.append((c.op, c.threshold, c.key, t0))
+        if c.function in ("max_abs", "rms") and c.op in ("<", "<=") and c.threshold > 0:
+            lines.append((">" if c.op == "<" else ">=", -c.threshold, c.key, t0))
     return out
 
 
 def write_plot(result, path, family: str):
-    from ...plot import plot_log
+    from ..plots import plot_result
 
-    return plot_log(result.log, plot_panels(result, family), path,
-                    title=f"{result.scenario} ({result.settings.get('robot')})")
+    return plot_result(result, plot_panels(result, family), path,
+                       title=f"{result.scenario} ({result.settings.get('robot')})")
 
 
 def write_log(result, path, family: str):

@@ -14,6 +14,7 @@ from . import baseline as baseline_mod
 from . import criteria as criteria_mod
 from .errors import ScenarioFileError
 from .schema import ScenarioFile
+from .signals import BY_FAMILY
 
 FAMILIES = {"arm": arm, "quadruped": quadruped, "aerial": aerial}
 
@@ -99,13 +100,25 @@ def run(scenario: ScenarioFile, robot=None, overrides=None, seed: int | None = N
                                                      components)
         except ValueError as e:
             raise ScenarioFileError(where, "baseline", str(e)) from None
+    describe(log, scenario.family, robot, components)
     metrics = {k: row["value"] for k, row in table.items()}
     settings = dict(settings, robot=robot.name, robot_digest=robot.digest(), seed=seed,
                     duration=duration)
-    result = ScenarioResult(scenario.name, metrics, table, log, settings)
-    result.components = components
-    result.scenario_file = scenario
-    return result
+    return ScenarioResult(scenario.name, metrics, table, log, settings, components, scenario)
+
+
+def describe(log, family: str, robot, components: dict) -> None:
+    """Units and component names of the log: the loop's raw channels as every scenario's
+    (scenarios/signals.py), then the family's signals (signals.py here) over them."""
+    from ..signals import describe as describe_raw
+
+    describe_raw(log, family, robot)
+    for name, signal in BY_FAMILY[family].items():
+        if name in log:
+            names = components.get(name)
+            shape = log[name].shape
+            fits = names is not None and len(shape) == 2 and shape[1] == len(names)
+            log.describe(name, signal.unit, names if fits else None, signal.description)
 
 
 def _signals_read(scenario: ScenarioFile) -> set:
