@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
+
 from .signals import BY_FAMILY
 
 # A signal's reference, drawn dashed beside it.
@@ -56,8 +58,8 @@ def plot_panels(result, family: str) -> list[tuple]:
 
 def thresholds(result) -> dict:
     """signal -> [(op, value, label, t0)] (kiloloop.plot's thresholds) of the file's criteria
-    on a whole signal or one component: max_abs and rms bounds drawn both ways as a guide (the
-    label names the function), each from its window's start."""
+    on a whole signal: max_abs and rms bounds drawn both ways on a signal that goes negative, as
+    a guide (the label names the function), each from its window's start."""
     out = {}
     for c in result.scenario_file.criteria:
         if c.component is not None or not math.isfinite(c.threshold):
@@ -65,7 +67,9 @@ def thresholds(result) -> dict:
         t0 = c.t0 or None
         lines = out.setdefault(c.signal, [])
         lines.append((c.op, c.threshold, c.key, t0))
-        if c.function in ("max_abs", "rms") and c.op in ("<", "<=") and c.threshold > 0:
+        signed = c.signal in result.log and np.nanmin(result.log[c.signal], initial=0.0) < 0
+        if (c.function in ("max_abs", "rms") and c.op in ("<", "<=") and c.threshold > 0
+                and signed):
             lines.append((">" if c.op == "<" else ">=", -c.threshold, c.key, t0))
     return out
 
