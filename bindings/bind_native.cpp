@@ -337,6 +337,21 @@ void bind_native(py::module_& parent) {
            py::arg("stages") = std::vector<std::shared_ptr<SensorStage>>{},
            py::arg("disturbances") = std::vector<std::shared_ptr<Disturbance>>{},
            py::arg("stop_nonfinite") = false)
+      .def("record_io",
+           [](PyRollout& r) {
+             std::string why;
+             if (!r.rollout.record_io(&why)) throw py::value_error(why);
+           },
+           "from the first tick on, keep every controller input and output record (the b2b log's)")
+      .def("io_records",
+           [](const PyRollout& r) {
+             const auto sizes = r.rollout.io_sizes();
+             const size_t n = static_cast<size_t>(r.rollout.result().ticks) * sizes.total();
+             return py::make_tuple(
+                 py::bytes(reinterpret_cast<const char*>(r.rollout.io_records().data()), n),
+                 sizes.input, sizes.output);
+           },
+           "(records of the ticks run, input bytes, output bytes) per tick, after record_io")
       .def("run",
            [](PyRollout& r) {
              py::gil_scoped_release no_gil;

@@ -8,6 +8,7 @@
 #include <string>
 
 #include "sil/events.hpp"
+#include "sil/io_record.hpp"
 #include "sil/log_buffer.hpp"
 
 namespace kiloloop::sil {
@@ -27,6 +28,12 @@ class Adapter {
   // One control tick at time t [s] on a measurement sampled at stamp [s]; writes u and the log
   // row k; returns the step's Status as an int.
   virtual int step(double t, double stamp, const double* y, double* u, LogBuffer& log, int k) noexcept = 0;
+  // The back-to-back log (kiloloop/firmware/record.hpp): bytes of the stepped controller's input
+  // and output records ({0, 0}: its controller has no firmware family), and the records of the
+  // tick just stepped, input then output, into out (the sum of those bytes). Configure time and
+  // after step respectively; allocation-free.
+  virtual IoRecordBytes io_record_bytes() const { return {}; }
+  virtual void write_io_record(unsigned char* out) const noexcept { (void)out; }
 };
 
 }  // namespace kiloloop::sil

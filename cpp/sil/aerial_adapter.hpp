@@ -29,6 +29,8 @@ class AerialAdapter final : public Adapter {
   int command_size() const override { return n_ + nq_; }
   void declare(LogBuffer& log) override;
   int step(double t, double stamp, const double* y, double* u, LogBuffer& log, int k) noexcept override;
+  IoRecordBytes io_record_bytes() const override { return sil::io_record_bytes(in_, out_); }
+  void write_io_record(unsigned char* p) const noexcept override { sil::write_io_record(in_, out_, p); }
   static int width(int nq) { return kReferenceWidth + 3 * nq; }
 
  private:

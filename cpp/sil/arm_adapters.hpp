@@ -45,6 +45,8 @@ class JointTrackingAdapter final : public Adapter {
   void declare(LogBuffer& log) override;
   void on_event(const Event& event) noexcept override;
   int step(double t, double stamp, const double* y, double* u, LogBuffer& log, int k) noexcept override;
+  IoRecordBytes io_record_bytes() const override { return sil::io_record_bytes(in_, out_); }
+  void write_io_record(unsigned char* p) const noexcept override { sil::write_io_record(in_, out_, p); }
 
  private:
   JointTorqueController* c_;
@@ -88,6 +90,8 @@ class SupervisedAdapter final : public Adapter {
   void declare(LogBuffer& log) override;
   void on_event(const Event& event) noexcept override;
   int step(double t, double stamp, const double* y, double* u, LogBuffer& log, int k) noexcept override;
+  IoRecordBytes io_record_bytes() const override { return sil::io_record_bytes(cin_, cout_); }
+  void write_io_record(unsigned char* p) const noexcept override { sil::write_io_record(cin_, cout_, p); }
 
  private:
   JointTorqueController* c_;

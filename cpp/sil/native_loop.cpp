@@ -176,6 +176,8 @@ bool Rollout::configure(const mjModel* model, mjData* data, std::shared_ptr<Adap
   }
   adapter->declare(log_);
   log_.allocate(config.ticks);
+  io_bytes_ = IoRecordBytes();
+  io_.clear();
   probe_src_.clear();
   probe_end_.clear();
   for (size_t i = 0; i < config.probes.size(); ++i) {
@@ -279,9 +281,24 @@ void Rollout::tick(int k) {
   for (size_t i = 0; i < config_.disturbances.size(); ++i)
     config_.disturbances[i]->update(t, m_, d_, wrenches_.data() + 6 * i, log_, k);
   adapter_->step(t, stamp, y, u_.data(), log_, k);
+  if (!io_.empty()) adapter_->write_io_record(io_.data() + static_cast<size_t>(k) * io_bytes_.total());
   motor_.push(u_.data(), u_applied_.data());
   for (int i = 0; i < nu; ++i) d_->ctrl[config_.actuators[i]] = u_applied_[i];
   for (int s = 0; s < substeps_; ++s) physics_step(s == substeps_ - 1);
+}
+
+bool Rollout::record_io(std::string* why) {
+  if (!adapter_ || k_ != 0) {
+    *why = "rollout: record_io before the first tick of a configured rollout";
+    return false;
+  }
+  io_bytes_ = adapter_->io_record_bytes();
+  if (io_bytes_.total() == 0) {
+    *why = "rollout: record_io: this adapter's controller has no back-to-back record";
+    return false;
+  }
+  io_.assign(static_cast<size_t>(config_.ticks) * io_bytes_.total(), 0);
+  return true;
 }
 
 const RolloutResult& Rollout::run() noexcept { return advance(config_.ticks); }

@@ -100,6 +100,14 @@ class Rollout {
   const RolloutResult& result() const { return result_; }
   const LogBuffer& log() const { return log_; }
   LogBuffer& log() { return log_; }
+  // Before the first tick: keep every tick's controller input and output records from now on
+  // (the back-to-back log's, adapter.io_record_bytes(); the buffer is allocated here), so a
+  // recorded run stays in C++. False with why when the adapter has none or ticks already ran.
+  bool record_io(std::string* why);
+  // Per tick run, the input record then the output record (io_sizes() bytes; empty unless
+  // record_io).
+  const std::vector<unsigned char>& io_records() const { return io_; }
+  IoRecordBytes io_sizes() const { return io_bytes_; }
 
  private:
   void tick(int k);
@@ -126,6 +134,8 @@ class Rollout {
   std::vector<const double*> probe_src_;  // every probe element's source, in log order
   std::vector<size_t> probe_end_;         // per probe: one past its last entry in probe_src_
   LogBuffer log_;
+  IoRecordBytes io_bytes_;
+  std::vector<unsigned char> io_;  // (ticks x io_bytes_.total()) with record_io, else empty
   int ch_t_ = 0;
   std::vector<int> ch_probe_;
   RolloutResult result_;

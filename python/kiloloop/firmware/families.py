@@ -1,8 +1,6 @@
 """Per robot family: the compiled controller its firmware runs, the SIL scenario that exercises it
-for a back-to-back check, and the settings that scenario needs for it (every family's per-tick
-Python loop: the native loop hands the controller to C++, where no Python wrapper can log its
-steps; both loops give the same log, tests/test_native_arm.py, tests/test_native_quadruped.py,
-tests/test_native_aerial.py)."""
+for a back-to-back check, and settings that scenario needs for it (none: the native loop records
+the controller's inputs and outputs itself, firmware/recording.py)."""
 from __future__ import annotations
 
 from dataclasses import dataclass, field
@@ -21,12 +19,11 @@ class Family:
 
 FAMILIES = {
     "arm": Family("arm", "ComputedTorqueController", "JointControlInput", "JointControlOutput",
-                  "kiloloop/control/computed_torque.hpp", "arm-track", {"native": False}),
+                  "kiloloop/control/computed_torque.hpp", "arm-track"),
     "quadruped": Family("quadruped", "QuadrupedController", "QuadrupedInput", "QuadrupedOutput",
-                        "kiloloop/quadruped/quadruped_controller.hpp", "quadruped-stand",
-                        {"native": False}),
+                        "kiloloop/quadruped/quadruped_controller.hpp", "quadruped-stand"),
     "aerial": Family("aerial", "AerialController", "AerialInput", "AerialOutput",
-                     "kiloloop/aerial/aerial_controller.hpp", "aerial-hover", {"native": False}),
+                     "kiloloop/aerial/aerial_controller.hpp", "aerial-hover"),
 }
 
 

@@ -1,9 +1,10 @@
 """A SIL run that logs every input and output of the family's controller (the b2b log).
 
-The scenario runs unchanged: while it runs, `kiloloop.<Controller>` makes controllers wrapped in
-RecordedController, which passes every call through and appends each step's input and output
-records (C++ firmware/record.hpp: raw doubles, no printing) to its log. The config and model each
-controller was made with are kept for `kiloloop export`.
+The scenario runs unchanged, in the native loop: while it runs, `kiloloop.<Controller>` notes
+each controller made of the family's class with the model and config it was made with (for
+`kiloloop export`), and every native Rollout made keeps its adapter's controller input and output
+records, written in C++ each tick (cpp/sil/io_record.hpp: the firmware/record.hpp bytes the
+replay reads). Nothing runs in Python per tick.
 
 Log file: header (magic, family, input and output bytes per tick), then per tick input + output.
 """
@@ -18,48 +19,55 @@ from pathlib import Path
 from .families import Family
 
 
+@dataclass
 class RecordedController:
-    """A compiled controller whose step() also logs its input and output records."""
+    """A controller of the family made during the run, and what it stepped."""
 
-    def __init__(self, inner, model, config):
-        from .. import _core
-
-        self._inner, self.model, self.config = inner, model, config
-        self._record = _core.firmware.record
-        self.records: list[bytes] = []
-        self.input_bytes = self.output_bytes = 0
-
-    def step(self, inp, out):
-        status = self._inner.step(inp, out)
-        a, b = self._record(inp), self._record(out)
-        self.input_bytes, self.output_bytes = len(a), len(b)
-        self.records.append(a + b)
-        return status
-
-    def __getattr__(self, name):
-        return getattr(self._inner, name)
+    controller: object
+    model: object
+    config: object
+    records: bytes = b""          # per tick: input record, then output record
+    input_bytes: int = 0
+    output_bytes: int = 0
 
 
 @contextlib.contextmanager
 def recording(family: Family):
-    """Within: `kiloloop.<family.controller>(model, config)` makes RecordedControllers, listed
-    in the yielded list."""
+    """Within: `kiloloop.<family.controller>(model, config)` is noted in the yielded list of
+    RecordedController, and every native Rollout keeps its I/O records (the yielded list of
+    (rollout, how many controllers had been made when it was))."""
     import kiloloop as kl
+
+    from ..sil import native
 
     original = getattr(kl, family.controller)
     made: list[RecordedController] = []
+    rollouts: list = []
 
     def make(model, config=None):
         if config is None:
             config = getattr(kl, family.controller.replace("Controller", "Config"))()
         made.append(RecordedController(original(model, config), model, config))
-        return made[-1]
+        return made[-1].controller
+
+    rollout_class = native._native.Rollout
+
+    def make_rollout(*args, **kwargs):
+        r = rollout_class(*args, **kwargs)
+        try:
+            r.record_io()
+            rollouts.append((r, len(made)))   # its controller is one made before it
+        except ValueError:
+            pass   # an adapter whose controller has no firmware family: not a b2b run
+        return r
 
     setattr(kl, family.controller, make)
+    native._native.Rollout = make_rollout
     try:
-        yield made
+        yield made, rollouts
     finally:
         setattr(kl, family.controller, original)
+        native._native.Rollout = rollout_class
 
 
 @dataclass
@@ -78,13 +86,21 @@ def record_sil_run(robot, family: Family, *, duration: float | None, seed: int |
     module = scenarios.get(scenario or family.scenario)
     overrides = {**family.settings, **(sets or {})}
     robot, settings = scenarios.prepare(module, robot, overrides)
-    with recording(family) as made:
+    with recording(family) as (made, rollouts):
         result = scenarios.run(module, settings, robot, seed=seed, duration=duration)
-    stepped = [c for c in made if c.records]
-    if len(stepped) != 1:
-        raise RuntimeError(f"{family.scenario}: expected one stepped {family.controller}, "
-                           f"found {len(stepped)}")
-    return SilRecording(stepped[0], len(stepped[0].records), result.passed)
+    stepped = [(r, n) for r, n in rollouts if r.ticks_run > 0]
+    name = scenario or family.scenario
+    # The run's controller: the one made before its rollout (a scenario may make more afterwards,
+    # to name its log's joints); two runs or two candidates are ambiguous.
+    if len(stepped) != 1 or stepped[0][1] != 1:
+        raise RuntimeError(f"{name}: expected one {family.controller} stepped in one native run, "
+                           f"found {len(stepped)} runs and "
+                           f"{stepped[0][1] if stepped else len(made)} controllers made before")
+    r = stepped[0][0]
+    records, input_bytes, output_bytes = r.io_records()
+    c = made[0]
+    c.records, c.input_bytes, c.output_bytes = records, input_bytes, output_bytes
+    return SilRecording(c, r.ticks_run, result.passed)
 
 
 def write_log(rec: SilRecording, family_code: int, path) -> str:
@@ -95,6 +111,6 @@ def write_log(rec: SilRecording, family_code: int, path) -> str:
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
     data = struct.pack("<8sqqq", _core.firmware.LOG_MAGIC, family_code, c.input_bytes,
-                       c.output_bytes) + b"".join(c.records)
+                       c.output_bytes) + c.records
     path.write_bytes(data)
     return hashlib.sha256(data).hexdigest()

@@ -67,7 +67,7 @@ def run(scenario, robot, settings: dict, seed: int, duration: float, video: str 
                                                      "joints": (16, 2 * nq)})
     if not settings["native"]:
         if payloads or stages:
-            raise ValueError("settings.native = false (the per-tick loop, b2b's recording) runs "
+            raise ValueError("settings.native = false (the per-tick Python loop) runs "
                              "no payload or sensor_dropout events on a multirotor")
         log = rig.run(duration, command, events=events, native=False)
     else:

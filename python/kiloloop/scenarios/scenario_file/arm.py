@@ -30,7 +30,7 @@ DEFAULTS = {
     "frictionloss": None,
     "armature": None,
     "stop_deceleration": 5.0,   # [rad/s^2] the supervisor's stopping ramp (estop events)
-    "native": True,             # false: the per-tick Python loop (b2b records through it)
+    "native": True,             # false: the per-tick Python loop (the same log, slower)
 }
 LAWS = ("computed_torque", "pd_gravity")
 
@@ -126,7 +126,7 @@ def run(scenario, robot, settings: dict, seed: int, duration: float, video: str 
     observe = native.Observe("q_true", "qd_true", "ee")
     if not settings["native"]:
         if forces or payloads or stages:
-            raise ValueError("settings.native = false (the per-tick loop, b2b's recording) runs "
+            raise ValueError("settings.native = false (the per-tick Python loop) runs "
                              "no push, payload or sensor_dropout events on an arm")
         log = rig.run(tick, duration, delay_ticks=delay_ticks, observe=observe, native=False,
                       nonideal=nonideal)

@@ -55,7 +55,7 @@ def run(scenario, robot, settings: dict, seed: int, duration: float, video: str 
     stop = fell_early(rig)
     if not settings["native"]:
         if payloads or stages:
-            raise ValueError("settings.native = false (the per-tick loop, b2b's recording) runs "
+            raise ValueError("settings.native = false (the per-tick Python loop) runs "
                              "no payload or sensor_dropout events on a quadruped")
         log = rig.run(duration, schedule, events=pushes, stop_when=stop, native=False)
     else:
