@@ -44,7 +44,7 @@ def main() -> None:
         rollout.run()
         print(f"{args.family}: {native.ticks_of(args.once)} ticks, ok={rollout.ok}")
         return
-    from kiloloop.bench.native_bench import timed_ticks_and_raw
+    from kiloloop.bench.native_timing import timed_ticks_and_raw
 
     duration = 4.0
     ticks = native.ticks_of(duration)

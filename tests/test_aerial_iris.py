@@ -9,6 +9,7 @@ import kiloloop as kl
 from kiloloop import scenarios
 from kiloloop.robot import Robot
 from kiloloop.robot import aerial as aerial_robot
+from kiloloop.robot_check import aerial as aerial_check
 
 from aerial_test_robots import IRIS_THRUST_MAX, write_iris
 
@@ -23,7 +24,7 @@ def test_iris_is_derived_from_its_urdf_and_rotors(iris):
     assert not ctrl.has_arm and ctrl.nq == 0 and ctrl.n_rotors == 4
     assert ctrl.total_mass == pytest.approx(1.5 + 0.015 + 4 * 0.005, abs=1e-9)
     assert ctrl.allocation.max_collective == pytest.approx(4 * IRIS_THRUST_MAX, rel=0.05)
-    print("\n".join(aerial_robot.summary(iris, aerial_robot.model(iris))))
+    print("\n".join(aerial_check.summary(iris, aerial_robot.model(iris))))
 
 
 @pytest.mark.parametrize("name,duration", [

@@ -12,6 +12,7 @@ import kiloloop as kl
 from kiloloop import scenarios
 from kiloloop.robot import Robot
 from kiloloop.robot import aerial as aerial_robot
+from kiloloop.robot_check import aerial as aerial_check
 from kiloloop.robot.robot_file import RobotFileError
 
 from aerial_test_robots import write_multirotor
@@ -46,7 +47,7 @@ def test_derived_controller(vehicle):
         1.6 + 0.05 * spec["n_rotors"]) + [0, 0, 0.02 * 0.05 * spec["n_rotors"] / (
             1.6 + 0.05 * spec["n_rotors"])], atol=1e-12)
     assert ctrl.allocation.uses_lateral_rows == ("tilt_deg" in spec)
-    lines = aerial_robot.summary(vehicle, aerial_robot.model(vehicle))
+    lines = aerial_check.summary(vehicle, aerial_robot.model(vehicle))
     print("\n".join(lines))
     assert any("hover thrust" in line for line in lines)
 

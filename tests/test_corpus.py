@@ -8,7 +8,7 @@ import pytest
 
 import kiloloop as kl
 from kiloloop.robot import Robot
-from kiloloop.robot import check
+from kiloloop import robot_check as check
 
 CORPUS = Path(__file__).resolve().parent / "corpus"
 URDFS = sorted((CORPUS / "urdf").glob("*.urdf"))

@@ -137,7 +137,7 @@ def cmd_signals(args) -> int:
 
 
 def cmd_robot_check(args) -> int:
-    from .robot.check import check
+    from .robot_check import check
 
     return check(args.file)
 

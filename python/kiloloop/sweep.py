@@ -19,13 +19,14 @@ from __future__ import annotations
 
 import csv
 import itertools
-import math
 import os
 import sys
-import time
 from concurrent.futures import ProcessPoolExecutor, as_completed
 from concurrent.futures.process import BrokenProcessPool
 from pathlib import Path
+
+from . import scenarios
+from .sil.batch import native_capable, run_one, run_scenarios  # noqa: F401  (sweep.run_one)
 
 
 def parse_grid(items: list[str]) -> dict[str, list[str]]:
@@ -47,40 +48,6 @@ def parse_grid(items: list[str]) -> dict[str, list[str]]:
 def combinations(grid: dict[str, list[str]]) -> list[dict[str, str]]:
     keys = list(grid)
     return [dict(zip(keys, values)) for values in itertools.product(*(grid[k] for k in keys))]
-
-
-def _divergence(result) -> str:
-    reason = result.settings.get("divergence", "") if isinstance(result.settings, dict) else ""
-    if reason:
-        return str(reason)
-    for name, value in result.metrics.items():
-        if name.startswith("diverged") and value:
-            return name
-        if isinstance(value, float) and math.isnan(value):
-            return f"NaN metric {name}"
-    return ""
-
-
-def run_one(scenario: str, params: dict, seed: int, duration: float | None, robot=None,
-            sets=None) -> dict:
-    """One run in a worker process; never raises (an exception becomes the failure reason).
-    params (the grid point) and sets (fixed --set items) may name scenario settings or dotted
-    robot-file keys."""
-    start = time.perf_counter()
-    try:
-        from . import scenarios
-
-        module = scenarios.get(scenario)
-        overrides = dict(item.split("=", 1) for item in (sets or []))
-        overrides.update(params)
-        robot_obj, settings = scenarios.prepare(module, robot, overrides)
-        result = scenarios.run(module, settings, robot_obj, seed=seed, duration=duration)
-        metrics = {k: float(v) for k, v in result.metrics.items()}
-        return {"params": params, "passed": bool(result.passed), "metrics": metrics,
-                "reason": _divergence(result), "wall_s": time.perf_counter() - start}
-    except Exception as e:  # noqa: BLE001 - a sweep records every failure and goes on
-        return {"params": params, "passed": False, "metrics": {},
-                "reason": f"error: {type(e).__name__}: {e}", "wall_s": time.perf_counter() - start}
 
 
 def _progress(done: int, total: int, failed: int, stream) -> None:
@@ -105,8 +72,6 @@ def run_sweep(scenario: str, grid: dict[str, list[str]], workers: int | None = N
     if backend not in BACKENDS:
         raise ValueError(f"--backend {backend!r}: expected one of {', '.join(BACKENDS)}")
     stream = sys.stderr if stream is None else stream  # looked up now: tests swap sys.stderr
-    from . import scenarios
-
     module = scenarios.get(scenario)  # unknown scenario: KeyError before any process starts
     # Every grid value checked here (unknown key, bad robot file) before any process starts.
     for point in combinations(grid)[:1] + [{}]:
@@ -117,9 +82,7 @@ def run_sweep(scenario: str, grid: dict[str, list[str]], workers: int | None = N
     workers = max(1, int(workers or os.cpu_count() or 1))
     if backend == "ray":
         return _run_ray(scenario, combos, workers, seed, duration, robot, sets, stream)
-    from .sil import batch
-
-    if batch.native_capable(scenario, sets, grid):
+    if native_capable(scenario, sets, grid):
         counter = {"done": 0, "failed": 0}
         _progress(0, len(combos), 0, stream)
 
@@ -130,7 +93,7 @@ def run_sweep(scenario: str, grid: dict[str, list[str]], workers: int | None = N
 
         runs = [{"params": p, "seed": seed, "duration": duration, "robot": robot, "sets": sets}
                 for p in combos]
-        return batch.run_scenarios(scenario, runs, threads=workers, on_done=on_done)
+        return run_scenarios(scenario, runs, threads=workers, on_done=on_done)
     results: list[dict | None] = [None] * len(combos)
     failed = 0
     _progress(0, len(combos), 0, stream)

@@ -2,8 +2,9 @@
 the default aerial manipulator, its native tick against raw mj_step replaying the commands the
 rotors and arm motors received in that run (same start state, same motion), the adapter +
 controller alone, real-time factors on one core and on all cores, the 8-rollout batch on 1 and 2
-threads, and the per-tick Python loop beside it. Same conventions and shared figure code as the arm and quadruped rows (native_bench.py):
-CPU time of the calling thread, least of REPEATS runs."""
+threads, and the per-tick Python loop beside it. Same conventions as the arm and quadruped rows
+(native_bench.py), the figure code shared with them (native_timing.py): CPU time of the calling
+thread, least of REPEATS runs."""
 from __future__ import annotations
 
 import time
@@ -13,8 +14,8 @@ import numpy as np
 
 import kiloloop as kl
 
-from .native_bench import (BATCH, REPEATS, batch_figures, python_figures, tick_figures,
-                           timed_ticks_and_raw)
+from .native_timing import (BATCH, REPEATS, batch_figures, python_figures, tick_figures,
+                            timed_ticks_and_raw)
 
 
 def _setup():

@@ -13,8 +13,8 @@ import numpy as np
 
 import kiloloop as kl
 
-from .native_bench import (BATCH, REPEATS, batch_figures, python_figures, tick_figures,
-                           timed_ticks_and_raw)
+from .native_timing import (BATCH, REPEATS, batch_figures, python_figures, tick_figures,
+                            timed_ticks_and_raw)
 
 
 def _setup():

@@ -11,6 +11,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from .schema import FREE, schema_for
+
 # Fraction of a joint's range kept free at each end when the start pose is moved inside it.
 LIMIT_MARGIN = 0.05
 # Joint offsets larger than this [rad] are never derived (continuous joints have no range).
@@ -57,8 +59,6 @@ def joint_range(model, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 
 
 def controller_settings(robot) -> dict:
-    from .schema import FREE, schema_for
-
     out = {k: v for k, v in schema_for("arm")["controller"].items() if v is not FREE}
     out.update(robot.section("controller"))
     return out
@@ -116,43 +116,3 @@ def joint_friction(robot, model):
         coulomb = np.broadcast_to(np.asarray(c["coulomb_friction"], float), (model.nq,)).copy()
     f.viscous, f.coulomb = viscous, coulomb
     return f
-
-
-def summary(robot, model) -> list[str]:
-    """Lines for `kiloloop robot check`: derived settings, the plant, the controllers."""
-    import kiloloop as kl
-
-    from ..sil.arm_rig import build_plant, reach, work_pose
-
-    q0 = start_pose(robot, model)
-    plant = build_plant(robot, visual=True)  # visual too: its notes say what a video shows
-    qw = work_pose(robot, model, plant)
-    kp, kd = joint_gains(robot, model, "computed_torque", q0)
-    kp_pd, _ = joint_gains(robot, model, "pd_gravity", q0)
-    ik = kl.ArmIk(model)
-    solver = ik.solver() if hasattr(ik, "solver") else ("ur_analytic" if ik.has_analytic
-                                                       else "numeric")
-    why = ik.analytic_reason() if hasattr(ik, "analytic_reason") else ""
-    lines = [
-        "  derived:",
-        f"    start pose q0 [rad]        {_fmt(q0)}",
-        f"    work pose [rad]            {_fmt(qw)}",
-        f"    reach [m]                  {reach(plant):.4g}",
-        f"    computed torque kp, kd     {kp[0]:.4g}, {kd[0]:.4g} (bandwidth "
-        f"{controller_settings(robot)['bandwidth']:.4g} rad/s)",
-        f"    PD + gravity kp            {_fmt(kp_pd)}",
-        f"    friction compensated       viscous {_fmt(joint_friction(robot, model).viscous)}, "
-        f"Coulomb {_fmt(joint_friction(robot, model).coulomb)}",
-        f"    IK solver                  {solver}" + (f" ({why})" if why else ""),
-        f"  plant: {plant.model.nbody - 1} bodies, {plant.nq} actuated joints "
-        f"({', '.join(plant.joint_names)}), {plant.welded} welded; mass {plant.total_mass():.4g} kg"
-        f" (model {model.total_mass:.4g} kg)",
-    ]
-    for note in plant.notes:
-        lines.append(f"    note: {note}")
-    kl.ComputedTorqueController(model)
-    return lines
-
-
-def _fmt(x) -> str:
-    return "[" + ", ".join(f"{v:.4g}" for v in np.asarray(x, dtype=float)) + "]"

@@ -4,7 +4,8 @@ The controller derives the rest itself at configure (stand height and pose, comp
 gains and thresholds from masses, inertias, effort limits and the actuation delay; see
 QuadrupedConfig); this module adds what needs the URDF's collision geometry (the foot sphere's
 radius and centre), maps the file's [legs] and [controller] tables onto kl.QuadrupedConfig, and
-gives the plant its start pose. `kiloloop robot check FILE` prints `summary`.
+gives the plant its start pose. `kiloloop robot check FILE` prints what it derived
+(robot_check/quadruped.py).
 """
 from __future__ import annotations
 
@@ -13,6 +14,7 @@ import xml.etree.ElementTree as ET
 import numpy as np
 
 from .foot_geometry import foot_contact as _foot_contact
+from .urdf_joints import urdf_joints
 
 # Nested config structs of kl.QuadrupedConfig (robot-file tables [controller.gait] ...).
 _NESTED = ("gait", "contact", "estimator", "force")
@@ -107,8 +109,6 @@ def plant_overlay(robot, controller) -> dict:
     """The plant's [sim] sections with what the robot file leaves out: the joints start in the
     controller's standing pose (URDF order), the IMU on the base, the feet from [legs] with the
     controller's foot sphere centre (the point the plant reports as each foot's position)."""
-    from ..sil.plant import urdf_joints
-
     sim = robot.sim
     joints = sim.setdefault("joints", {})
     if joints.get("q0") is None:
@@ -125,31 +125,3 @@ def plant_overlay(robot, controller) -> dict:
     if feet.get("offset") is None:
         feet["offset"] = [float(x) for x in np.asarray(controller.config.foot_offset)]
     return sim
-
-
-def summary(robot, model) -> list[str]:
-    from .. import _core
-    from ..sil.floating_plant import FloatingBasePlant
-
-    config = controller_config(robot)
-    ctrl = _core.QuadrupedController(model, config)
-    d = ctrl.config
-    plant = FloatingBasePlant(robot.urdf, plant_overlay(robot, ctrl), package_dirs=robot.package_dirs)
-    inertia = np.asarray(ctrl.inertia)
-    fmt = lambda v: ", ".join(f"{x:.4g}" for x in np.asarray(v).ravel())  # noqa: E731
-    knees = ", ".join(str(k).split(".")[-1].lower() for k in d.knees)
-    return [
-        f"  plant: {plant.model.nbody - 1} bodies, {plant.nq} actuated joints, "
-        f"feet {', '.join(plant.feet)} (order checked against the hips)",
-        f"  mass {d.mass:.3f} kg; CoM standing {fmt(ctrl.com)} m (trunk frame)",
-        f"  composite inertia about the CoM [kg m^2]: diag {fmt(np.diag(inertia))}",
-        f"  stand height {d.body_height:.4f} m; foot radius {d.foot_radius:.4f} m about "
-        f"({fmt(d.foot_offset)}) m in the foot frame; knees {knees}",
-        f"  stand pose [rad] {fmt(ctrl.stand_pose)}",
-        f"  plant start height {plant.base_pos0[2]:.4f} m",
-        f"  swing kp {fmt(d.swing_kp)} N m/rad, kd {fmt(d.swing_kd)} N m s/rad "
-        f"(actuation delay {d.actuation_delay * 1e3:.1f} ms)",
-        f"  contact on/off {d.contact.force_on:.1f}/{d.contact.force_off:.1f} N; "
-        f"fz {d.force.fz_min:.1f}..{d.force.fz_max:.1f} N; swing height {d.swing_height:.3f} m; "
-        f"Raibert gain {d.raibert_gain:.3f} s",
-    ]

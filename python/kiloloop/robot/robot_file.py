@@ -12,12 +12,23 @@ import os
 import tomllib
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import Callable
 
 from . import schema
+from .aerial import model as aerial_model
+from .errors import RobotFileError
+
+# Checks of top-level tables that a layer above robot/ owns: table name -> check(values, where),
+# which raises RobotFileError naming `where` and the key. kiloloop.scenarios registers
+# [scenario.<name>] (scenario names and their settings) when it is imported; robot/ imports no
+# scenario, so that loading a robot file needs neither the scenarios nor MuJoCo.
+_TABLE_CHECKS: dict[str, Callable[[object, str], None]] = {}
 
 
-class RobotFileError(ValueError):
-    """A robot file that cannot be used; the message names the file and the key at fault."""
+def register_table_check(table: str, check: Callable[[object, str], None]) -> None:
+    """Makes every later load and --set of a robot file call check(file[table], where) when the
+    file has that table."""
+    _TABLE_CHECKS[table] = check
 
 
 def _models_dir() -> Path:
@@ -122,20 +133,9 @@ class Robot:
                     raise RobotFileError(f"{where}: missing key '{section}.{k}'")
         if not self.urdf.is_file():
             raise RobotFileError(f"{where}: urdf: file not found: {self.urdf}")
-        for name, values in d.get("scenario", {}).items():
-            self._check_scenario_section(name, values, where)
-
-    def _check_scenario_section(self, name: str, values, where: str) -> None:
-        from .. import scenarios
-
-        if name not in scenarios.names():
-            raise RobotFileError(f"{where}: unknown key 'scenario.{name}' (no such scenario)")
-        if not isinstance(values, dict):
-            raise RobotFileError(f"{where}: scenario.{name}: expected a table")
-        known = scenarios.get(name).DEFAULTS
-        for key in values:
-            if key not in known:
-                raise RobotFileError(f"{where}: unknown key 'scenario.{name}.{key}'")
+        for table, check in _TABLE_CHECKS.items():
+            if table in d:
+                check(d[table], where)
 
     # --- what the file says ----------------------------------------------------------------------
     @property
@@ -203,8 +203,6 @@ class Robot:
             except (ValueError, RuntimeError) as e:
                 raise RobotFileError(f"{self.path}: {e}") from None
         if self.kind == "aerial":
-            from .aerial import model as aerial_model
-
             return aerial_model(self)  # the arm's chain base -> ee, or the whole tree (no arm)
         try:
             return _core.RobotModel.from_urdf(str(self.urdf))

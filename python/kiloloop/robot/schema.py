@@ -3,11 +3,15 @@
 A schema is a nested dict of templates: a dict recurses, FREE accepts any value (its contents are
 checked by whoever reads them), any other value is the key's default (documentation only; the
 readers apply defaults). Families register their sections here; controller and sim sections come
-from the readers' own default tables so that they cannot drift apart.
+from the readers' own default tables (sim_defaults.py, which the plants merge files over; the
+QuadrupedConfig struct) so that they cannot drift apart.
 """
 from __future__ import annotations
 
 import math
+
+from . import sim_defaults
+from .quadruped import controller_schema
 
 FREE = object()  # any value (a table of user-chosen names, or a value checked elsewhere)
 
@@ -19,9 +23,11 @@ _COMMON = {
 }
 
 
-def _arm() -> dict:
-    from ..sil.plant import _DEFAULTS as plant
+def _sim(kind: str) -> dict:
+    return {section: dict(values) for section, values in sim_defaults.BY_KIND[kind].items()}
 
+
+def _arm() -> dict:
     return {
         # The controlled chain; joints off it (grippers, mimic joints) are locked at `locked`
         # (joint name -> [rad] or [m], default 0) and their links folded in as rigid mass.
@@ -38,7 +44,7 @@ def _arm() -> dict:
             "coulomb_friction": FREE,      # [N m]
             "friction_smoothing_speed": 0.01,  # [rad/s]
         },
-        "sim": {section: dict(values) for section, values in plant.items()},
+        "sim": _sim("arm"),
         # Link capsules for planning: { link = [[x0,y0,z0, x1,y1,z1, r], ...] } in the link frame;
         # links with mesh collision geometry get capsules fitted to the mesh otherwise.
         "collision": {"capsules": FREE, "margin": 0.02},
@@ -46,25 +52,20 @@ def _arm() -> dict:
 
 
 def _quadruped() -> dict:
-    from ..sil.floating_plant import _DEFAULTS as plant
-    from .quadruped import controller_schema
-
     return {
         "legs": {"base": "", "feet": []},
         # Fields of kl.QuadrupedConfig ([controller.gait] etc. for its nested structs).
         "controller": controller_schema(),
-        "sim": {section: dict(values) for section, values in plant.items()},
+        "sim": _sim("quadruped"),
     }
 
 
 def _aerial() -> dict:
-    from ..sil.aerial_plant import _DEFAULTS as plant
-
     return {
         "vehicle": {"base": "", "ee": ""},
         "rotors": FREE,      # [[rotors]] tables, checked by the aerial reader
         "controller": FREE,  # fields of kl.AerialConfig (dotted for nested structs)
-        "sim": {section: dict(values) for section, values in plant.items()},
+        "sim": _sim("aerial"),
     }
 
 

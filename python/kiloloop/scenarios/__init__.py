@@ -19,6 +19,8 @@ from __future__ import annotations
 import importlib
 from dataclasses import dataclass, field
 
+from ..robot import Robot, RobotFileError
+from ..robot.robot_file import register_table_check
 from ..sil.log import SignalLog
 
 # Scenario name -> module (one concept per file; the name is the CLI name).
@@ -104,6 +106,26 @@ def get(name: str):
     return importlib.import_module(f"{__name__}.{_MODULES[name]}")
 
 
+def check_scenario_tables(tables, where: str) -> None:
+    """A robot file's [scenario.<name>] tables: each names a scenario and sets only its settings;
+    otherwise RobotFileError naming `where` and the key. Robot.load calls it once this module is
+    imported (registered below); prepare() calls it for a robot loaded before that."""
+    if not isinstance(tables, dict):
+        raise RobotFileError(f"{where}: scenario: expected tables [scenario.<name>]")
+    for name, values in tables.items():
+        if name not in _MODULES:
+            raise RobotFileError(f"{where}: unknown key 'scenario.{name}' (no such scenario)")
+        if not isinstance(values, dict):
+            raise RobotFileError(f"{where}: scenario.{name}: expected a table")
+        known = get(name).DEFAULTS
+        for key in values:
+            if key not in known:
+                raise RobotFileError(f"{where}: unknown key 'scenario.{name}.{key}'")
+
+
+register_table_check("scenario", check_scenario_tables)
+
+
 def split_overrides(items: list[str] | dict | None) -> tuple[dict, dict]:
     """--set items -> (robot-file overrides by dotted key, scenario settings)."""
     pairs = list(items.items()) if isinstance(items, dict) else []
@@ -135,13 +157,12 @@ def prepare(module, robot=None, overrides: list[str] | dict | None = None):
     """
     import inspect
 
-    from ..robot import Robot
-
     if hasattr(module, "prepare"):   # a scenario file: its own layering and error keys
         return module.prepare(robot, overrides)
     robot_sets, scenario_sets = split_overrides(overrides)
     if not isinstance(robot, Robot):
         robot = Robot.load(default_robot(module) if robot is None else robot)
+    check_scenario_tables(robot.data.get("scenario", {}), str(robot.path))
     # A scenario file's own robot-file settings first, then the overrides'.
     for sets in (getattr(module, "ROBOT_OVERRIDES", {}), robot_sets):
         if sets:

@@ -8,6 +8,10 @@ that signal's panel, in the signal's unit (e.g. max_ee_error_m < 0.001 -> 1 mm o
 """
 from __future__ import annotations
 
+import math
+
+import numpy as np
+
 from ..plot import Panel, plot_log
 
 ARM_TRACK_PLOT = [Panel("joint position", "q_true", "q_ref"),
@@ -74,13 +78,29 @@ CRITERION_SIGNALS = {
 }
 
 
+def file_thresholds(result) -> dict:
+    """signal -> [(op, value, label, t0)] (kiloloop.plot's thresholds) of the file's criteria
+    on a whole signal: max_abs and rms bounds drawn both ways on a signal that goes negative, as
+    a guide (the label names the function), each from its window's start."""
+    out = {}
+    for c in result.scenario_file.criteria:
+        if c.component is not None or not math.isfinite(c.threshold):
+            continue
+        t0 = c.t0 or None
+        lines = out.setdefault(c.signal, [])
+        lines.append((c.op, c.threshold, c.key, t0))
+        signed = c.signal in result.log and np.nanmin(result.log[c.signal], initial=0.0) < 0
+        if (c.function in ("max_abs", "rms") and c.op in ("<", "<=") and c.threshold > 0
+                and signed):
+            lines.append((">" if c.op == "<" else ">=", -c.threshold, c.key, t0))
+    return out
+
+
 def criteria_thresholds(result) -> dict[str, list[tuple]]:
     """{signal: [(op, value, label, t0)]} (kiloloop.plot's thresholds) of the result's criteria
     that a plotted signal shows (a scenario file's: its criteria's own signals and windows)."""
     if getattr(result, "scenario_file", None) is not None:
-        from .scenario_file.report import thresholds
-
-        return thresholds(result)
+        return file_thresholds(result)
     out: dict[str, list] = {}
     for metric, c in result.criteria.items():
         if metric not in CRITERION_SIGNALS:

@@ -12,6 +12,7 @@ import numpy as np
 
 import kiloloop as kl
 
+from ..robot import aerial as aerial_robot
 from .aerial_plant import AerialPlant
 
 _G = np.array([0.0, 0.0, -9.81])
@@ -30,7 +31,6 @@ def inverse_dynamics_crosscheck(robot=None, n: int = 200, seed: int = 20261122) 
     acceleration, arm position within limits, velocity and acceleration): arm torques [N m] and
     the reaction wrench [N, N m]. robot: an aerial robot file with an arm whose body CoM is its
     origin (default: kiloloop's aerial manipulator)."""
-    from ..robot import aerial as aerial_robot
     from .aerial_rig import load_robot
 
     robot = load_robot(robot)

@@ -20,22 +20,16 @@ from pathlib import Path
 import mujoco
 import numpy as np
 
+from ..robot import aerial, sim_defaults
+from ..robot.urdf_joints import urdf_joints
 from .floating_base import FloatingBaseReadout, add_free_base, add_imu
 from .floating_base import fixed as _fixed
 from .floating_base import unit_quat as _unit_quat
-from .plant import add_joints_and_motors, load_overlay as _plant_overlay, spec_from_urdf, urdf_joints
+from .plant import add_joints_and_motors, load_overlay as _plant_overlay, spec_from_urdf
 from .urdf_import import weld_joints
 
-_DEFAULTS = {
-    "physics": {"timestep": 0.001, "integrator": "implicitfast", "gravity": [0.0, 0.0, -9.81]},
-    "joints": {"damping": 0.0, "frictionloss": 0.0, "armature": 0.0, "q0": None},
-    "base": {"pos0": [0.0, 0.0, 1.0], "quat0": [1.0, 0.0, 0.0, 0.0]},
-    "actuators": {"type": "motor"},
-    # Per-rotor thrust and drag-torque scale (a damaged propeller); None: 1 for every rotor.
-    "rotors": {"efficiency": None},
-    "imu": {"body": None, "site": "imu", "pos": [0.0, 0.0, 0.0]},
-    "ee": {"site": "ee_site"},
-}
+# The [sim.*] defaults live with the robot-file schema, which reads them too.
+_DEFAULTS = sim_defaults.AERIAL
 
 
 def load_overlay(overlay) -> dict:
@@ -59,8 +53,6 @@ class AerialPlant(FloatingBaseReadout):
     @classmethod
     def from_robot(cls, robot, **kw) -> "AerialPlant":
         """The plant of a loaded aerial robot file (kl.Robot)."""
-        from ..robot import aerial
-
         model = aerial.model(robot)
         v = robot.section("vehicle")
         return cls(robot.urdf, robot.sim, rotors=aerial.rotors(robot),

@@ -25,6 +25,7 @@ import numpy as np
 
 import kiloloop as kl
 
+from ..robot import Robot
 from ..robot import aerial as aerial_robot
 from . import native as native_loop
 from .aerial_plant import AerialPlant
@@ -41,8 +42,6 @@ DEFAULT_ROBOT = "aerial_manipulator"
 
 def load_robot(robot=None):
     """A loaded kl.Robot: `robot` itself, or a name / file, or kiloloop's aerial manipulator."""
-    from ..robot import Robot
-
     return robot if isinstance(robot, Robot) else Robot.load(robot or DEFAULT_ROBOT)
 
 

@@ -18,30 +18,19 @@ from pathlib import Path
 import mujoco
 import numpy as np
 
+from ..robot import sim_defaults
+from ..robot.urdf_joints import urdf_joints
 from .floating_base import FloatingBaseReadout, add_free_base, add_imu
 from .geom_bottom import geom_bottom
 from .floating_base import fixed as _fixed
 from .floating_base import unit_quat as _unit_quat
-from .plant import add_joints_and_motors, collision_geoms, spec_from_urdf, urdf_joints
+from .plant import add_joints_and_motors, collision_geoms, spec_from_urdf
 from .plant import load_overlay as _load_plant_overlay
 
-_FEET = ("FL_foot", "FR_foot", "RL_foot", "RR_foot")
+# The [sim.*] defaults live with the robot-file schema, which reads them too.
+_DEFAULTS = sim_defaults.QUADRUPED
 # The quadruped plant's solver options (robot files override them in [sim.physics]).
-DEFAULT_PHYSICS = {"timestep": 0.001, "integrator": "implicitfast", "gravity": [0.0, 0.0, -9.81],
-                   "cone": "elliptic", "impratio": 100.0, "noslip_iterations": 5}
-_DEFAULTS = {
-    "physics": DEFAULT_PHYSICS,
-    "floor": {"enabled": True, "slope_deg": 0.0, "friction": 0.8},
-    "joints": {"damping": 0.0, "frictionloss": 0.0, "armature": 0.0, "q0": None},
-    # pos0 None: computed so that the lowest foot just touches flat ground at q0 (see _stand_pos).
-    "base": {"pos0": None, "quat0": [1.0, 0.0, 0.0, 0.0]},
-    "actuators": {"type": "motor"},
-    "imu": {"body": None, "site": "imu", "pos": [0.0, 0.0, 0.0]},
-    # offset: [m] the foot contact sphere's centre in each foot link's frame (the controller's
-    # foot_offset; ANYmal's sits 23 mm up the shank): where each foot's site sits, the point
-    # foot_positions() reports. Zero: the link origin.
-    "feet": {"bodies": list(_FEET), "offset": [0.0, 0.0, 0.0]},
-}
+DEFAULT_PHYSICS = sim_defaults.QUADRUPED_PHYSICS
 _CONES = {"pyramidal": mujoco.mjtCone.mjCONE_PYRAMIDAL,
           "elliptic": mujoco.mjtCone.mjCONE_ELLIPTIC}
 _FLOOR = "floor"

@@ -7,28 +7,20 @@ end-effector site and joint sensors. All arrays are numpy, SI units, in URDF joi
 from __future__ import annotations
 
 import tomllib
-import xml.etree.ElementTree as ET
 from pathlib import Path
 
 import mujoco
 import numpy as np
 
+# The [sim.*] defaults live with the robot-file schema, which reads them too.
+from ..robot.sim_defaults import ARM as _DEFAULTS
+from ..robot.urdf_joints import urdf_joints
 from .urdf_import import prepare_urdf, weld_joints
 
-_DEFAULTS = {
-    "physics": {"timestep": 0.001, "integrator": "implicitfast",
-                "gravity": [0.0, 0.0, -9.81], "floor": True},
-    # None: the URDF's <dynamics> damping / friction (0 where it has none).
-    "joints": {"damping": None, "frictionloss": None, "armature": 0.0, "q0": None},
-    "actuators": {"type": "motor"},
-    # body None: the chain's tip link (the robot file's [chain] tip).
-    "ee": {"body": None, "site": "ee_site"},
-}
 # mj_step1/mj_step2 do not support RK4, and the plant relies on the split (see step()).
 _INTEGRATORS = {"euler": mujoco.mjtIntegrator.mjINT_EULER,
                 "implicit": mujoco.mjtIntegrator.mjINT_IMPLICIT,
                 "implicitfast": mujoco.mjtIntegrator.mjINT_IMPLICITFAST}
-_ACTUATED = ("revolute", "continuous", "prismatic")
 
 
 def load_overlay(overlay, defaults: dict = _DEFAULTS) -> dict:
@@ -56,20 +48,6 @@ def per_joint(value, n: int, name: str) -> np.ndarray:
         raise ValueError(f"{name}: expected a non-negative scalar or a sequence of {n}, "
                          f"got {value!r}")
     return arr
-
-
-def urdf_joints(urdf_path: Path) -> tuple[list[str], np.ndarray]:
-    """Actuated joint names in URDF document order, and their effort limits [N m] (inf if none)."""
-    names, effort = [], []
-    # Direct children only: <transmission> elements also contain <joint> tags.
-    for joint in ET.parse(urdf_path).getroot().findall("joint"):
-        if joint.get("type") not in _ACTUATED:
-            continue
-        names.append(joint.get("name"))
-        limit = joint.find("limit")
-        e = float(limit.get("effort", 0.0)) if limit is not None else 0.0
-        effort.append(e if e > 0 else np.inf)
-    return names, np.array(effort)
 
 
 def add_joints_and_motors(spec, joint_names, effort, jcfg: dict, actuators: dict) -> None:

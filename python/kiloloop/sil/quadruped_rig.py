@@ -22,6 +22,7 @@ import numpy as np
 
 import kiloloop as kl
 
+from ..robot.quadruped import controller_config, plant_overlay
 from . import native as native_loop
 from .floating_plant import FloatingBasePlant
 from .legged_sensors import LeggedSensorSettings, stages as sensor_stages
@@ -157,8 +158,6 @@ class QuadrupedSignals:
 
 class QuadrupedRig:
     def __init__(self, settings: RigSettings, seed: int = 0, robot=None):
-        from ..robot.quadruped import controller_config, plant_overlay
-
         self.robot = default_robot() if robot is None else robot
         self.settings = settings
         self.model = self.robot.model()

@@ -4,8 +4,7 @@ from __future__ import annotations
 
 import math
 
-import numpy as np
-
+from ..plots import plot_result
 from .signals import BY_FAMILY
 
 # A signal's reference, drawn dashed beside it.
@@ -56,27 +55,7 @@ def plot_panels(result, family: str) -> list[tuple]:
              result.log else None, table[n].unit) for n in names if n in result.log]
 
 
-def thresholds(result) -> dict:
-    """signal -> [(op, value, label, t0)] (kiloloop.plot's thresholds) of the file's criteria
-    on a whole signal: max_abs and rms bounds drawn both ways on a signal that goes negative, as
-    a guide (the label names the function), each from its window's start."""
-    out = {}
-    for c in result.scenario_file.criteria:
-        if c.component is not None or not math.isfinite(c.threshold):
-            continue
-        t0 = c.t0 or None
-        lines = out.setdefault(c.signal, [])
-        lines.append((c.op, c.threshold, c.key, t0))
-        signed = c.signal in result.log and np.nanmin(result.log[c.signal], initial=0.0) < 0
-        if (c.function in ("max_abs", "rms") and c.op in ("<", "<=") and c.threshold > 0
-                and signed):
-            lines.append((">" if c.op == "<" else ">=", -c.threshold, c.key, t0))
-    return out
-
-
 def write_plot(result, path, family: str):
-    from ..plots import plot_result
-
     return plot_result(result, plot_panels(result, family), path,
                        title=f"{result.scenario} ({result.settings.get('robot')})")
 

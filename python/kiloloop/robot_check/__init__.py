@@ -1,8 +1,12 @@
 """`kiloloop robot check FILE`: load everything a robot file names and print one screen about it.
 
-Loads the robot file, the URDF, the controlled model (folded mass included), the MuJoCo plant and
-the family's controller; prints joints, limits, masses, what was folded and what was derived. Any
-failure prints one line naming the file and what is wrong, and exits 2 (no traceback).
+Loads the robot file (its [scenario.<name>] tables checked against the scenarios), the URDF, the
+controlled model (folded mass included), the MuJoCo plant and the family's controller; prints
+joints, limits, masses, what was folded and what was derived. Any failure prints one line naming
+the file and what is wrong, and exits 2 (no traceback).
+
+It sits above robot/, sil/ and scenarios/ (it builds plants and reads scenario settings), so that
+robot/ itself needs neither: loading a robot file does not import MuJoCo.
 """
 from __future__ import annotations
 
@@ -10,6 +14,9 @@ import importlib
 import sys
 
 import numpy as np
+
+from .. import scenarios
+from ..robot import Robot
 
 
 def _fmt(x) -> str:
@@ -21,11 +28,12 @@ def _fmt(x) -> str:
 
 
 def family(kind: str):
-    """The family module (robot/arm.py, quadruped.py, aerial.py): derive() and summary()."""
+    """The family's summary module (robot_check/arm.py, quadruped.py, aerial.py): summary()."""
     return importlib.import_module(f"{__package__}.{kind}")
 
 
 def summary_lines(robot) -> list[str]:
+    scenarios.check_scenario_tables(robot.data.get("scenario", {}), str(robot.path))
     model = robot.model()
     lines = [f"robot {robot.name} ({robot.kind})  file {robot.path}",
              f"  urdf {robot.urdf}",
@@ -46,8 +54,6 @@ def summary_lines(robot) -> list[str]:
 
 
 def check(name_or_path, stream=sys.stdout) -> int:
-    from . import Robot
-
     try:
         robot = Robot.load(name_or_path)
         lines = summary_lines(robot)
