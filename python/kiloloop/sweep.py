@@ -30,16 +30,18 @@ from pathlib import Path
 
 def parse_grid(items: list[str]) -> dict[str, list[str]]:
     """["k=v1,v2", ...] -> {"k": ["v1", "v2"]} (values stay strings: the scenario converts them)."""
+    from .errors import InputError
+
     grid: dict[str, list[str]] = {}
     for item in items:
         if "=" not in item:
-            raise ValueError(f"--grid {item!r}: expected KEY=V1,V2,...")
+            raise InputError(f"--grid {item!r}: expected KEY=V1,V2,...")
         key, values = item.split("=", 1)
         vals = [v for v in values.split(",") if v != ""]
         if not key or not vals:
-            raise ValueError(f"--grid {item!r}: expected KEY=V1,V2,...")
+            raise InputError(f"--grid {item!r}: expected KEY=V1,V2,...")
         if key in grid:
-            raise ValueError(f"--grid {key!r} given twice")
+            raise InputError(f"--grid {key!r} given twice")
         grid[key] = vals
     return grid
 
@@ -71,9 +73,9 @@ def run_one(scenario: str, params: dict, seed: int, duration: float | None, robo
         from . import scenarios
 
         module = scenarios.get(scenario)
-        overrides = dict(item.split("=", 1) for item in (sets or []))
-        overrides.update(params)
-        robot_obj, settings = scenarios.prepare(module, robot, overrides)
+        overrides = _overrides(sets, params)
+        # run_sweep has warned about unread keys once; its workers stay quiet.
+        robot_obj, settings = scenarios.prepare(module, robot, overrides, warn=False)
         result = scenarios.run(module, settings, robot_obj, seed=seed, duration=duration)
         metrics = {k: float(v) for k, v in result.metrics.items()}
         return {"params": params, "passed": bool(result.passed), "metrics": metrics,
@@ -81,6 +83,14 @@ def run_one(scenario: str, params: dict, seed: int, duration: float | None, robo
     except Exception as e:  # noqa: BLE001 - a sweep records every failure and goes on
         return {"params": params, "passed": False, "metrics": {},
                 "reason": f"error: {type(e).__name__}: {e}", "wall_s": time.perf_counter() - start}
+
+
+def _overrides(sets, params: dict) -> dict:
+    """Fixed --set items and one grid point as one dict of overrides (the point wins)."""
+    from .scenarios import split_overrides
+
+    robot_sets, scenario_sets = split_overrides(sets or [])
+    return {**robot_sets, **scenario_sets, **params}
 
 
 def _progress(done: int, total: int, failed: int, stream) -> None:
@@ -102,18 +112,26 @@ def run_sweep(scenario: str, grid: dict[str, list[str]], workers: int | None = N
     Ray; results in grid order. A worker that dies takes only its own run with it. Grid keys are
     scenario settings or dotted robot-file keys (controller.kp); robot and sets as in
     `kiloloop run`."""
+    from .errors import InputError
+
     if backend not in BACKENDS:
-        raise ValueError(f"--backend {backend!r}: expected one of {', '.join(BACKENDS)}")
+        raise InputError(f"--backend {backend!r}: expected one of {', '.join(BACKENDS)}")
     stream = sys.stderr if stream is None else stream  # looked up now: tests swap sys.stderr
     from . import scenarios
 
     module = scenarios.get(scenario)  # unknown scenario: KeyError before any process starts
-    # Every grid value checked here (unknown key, bad robot file) before any process starts.
-    for point in combinations(grid)[:1] + [{}]:
-        overrides = dict(item.split("=", 1) for item in (sets or []))
-        overrides.update(point)
-        scenarios.prepare(module, robot, overrides)
     combos = combinations(grid)
+    # Checked here before any process starts: the robot file and the fixed --set once, every
+    # grid value's conversion and list length, and the duration against each point's minimum.
+    first = combos[0] if combos else {}
+    robot_obj, base = scenarios.prepare(module, robot, _overrides(sets, first))
+    for point in combos:
+        robot_sets, scenario_sets = scenarios.split_overrides(point)
+        nq = scenarios.check_robot_sizes(robot_obj.with_overrides(robot_sets) if robot_sets
+                                         else robot_obj)
+        settings = scenarios.parse_settings(base, scenario_sets)
+        scenarios.check_sizes(module, settings, nq)
+        scenarios.check_duration(duration, module, settings)
     workers = max(1, int(workers or os.cpu_count() or 1))
     if backend == "ray":
         return _run_ray(scenario, combos, workers, seed, duration, robot, sets, stream)
@@ -156,7 +174,7 @@ def _run_ray(scenario, combos, workers, seed, duration, robot, sets, stream) -> 
     try:
         import ray
     except ImportError:
-        raise ValueError("--backend ray needs Ray: pip install 'kiloloop[ray]'") from None
+        raise InputError("--backend ray needs Ray: pip install 'kiloloop[ray]'") from None
     started = False
     if not ray.is_initialized():
         address = os.environ.get("RAY_ADDRESS")

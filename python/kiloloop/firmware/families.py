@@ -7,6 +7,8 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
+from ..errors import InputError
+
 
 @dataclass(frozen=True)
 class Family:
@@ -32,5 +34,5 @@ FAMILIES = {
 
 def family_of(robot) -> Family:
     if robot.kind not in FAMILIES:
-        raise ValueError(f"{robot.path}: kind {robot.kind!r} has no firmware family")
+        raise InputError(f"{robot.path}: kind {robot.kind!r} has no firmware family")
     return FAMILIES[robot.kind]

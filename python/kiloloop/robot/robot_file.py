@@ -13,10 +13,11 @@ import tomllib
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from ..errors import InputError
 from . import schema
 
 
-class RobotFileError(ValueError):
+class RobotFileError(InputError):
     """A robot file that cannot be used; the message names the file and the key at fault."""
 
 
@@ -50,11 +51,17 @@ def resolve_robot_path(name_or_path) -> Path:
 
 
 def parse_value(text: str):
-    """A --set value as TOML would read it (1, 2.5, true, [1, 2], "s"); a bare word stays a str."""
-    try:
-        return tomllib.loads(f"v = {text}")["v"]
-    except tomllib.TOMLDecodeError:
-        return text
+    """A --set value as TOML would read it (1, 2.5, true, [1, 2], "s"); a list may also be given
+    bare, `0.1,-0.2` as `[0.1, -0.2]` (what a shell user types; both forms work for every key);
+    anything else (a bare word) stays a str, for the reader to accept or refuse."""
+    for form in (f"v = {text}", f"v = [{text}]" if "," in text else None):
+        if form is None:
+            continue
+        try:
+            return tomllib.loads(form)["v"]
+        except tomllib.TOMLDecodeError:
+            pass
+    return text
 
 
 def _set_dotted(data: dict, dotted: str, value) -> None:
@@ -99,6 +106,11 @@ class Robot:
         robot = Robot(path=self.path, data=data, overrides=applied)
         robot._validate(source="--set")
         return robot
+
+    def where(self, key: str) -> str:
+        """Where a dotted key's value came from, for an error message: `--set KEY` when a --set
+        gave it, else `FILE: KEY`."""
+        return f"--set {key}" if key in self.overrides else f"{self.path}: {key}"
 
     def _validate(self, source: str | None = None) -> None:
         where = f"{self.path}" + (f" (with {source})" if source else "")

@@ -17,10 +17,11 @@ import numpy as np
 
 import kiloloop as kl
 
+from ..errors import configuring
 from ..sil.arm_adapters import SupervisedTick
 from ..sil.arm_rig import ArmRig, controller, joint_targets, work_pose
 from ..sil.native import Observe
-from . import ScenarioResult, evaluate
+from . import JUDGED_WINDOW, ScenarioResult, check_duration, evaluate
 
 NAME = "arm-estop"
 DESCRIPTION = "arm: e-stop during a fast motion -> controlled stop in bounded time/distance, hold"
@@ -43,6 +44,9 @@ CRITERIA = {
     "trips_before_estop": ("<", 1),
     "speed_at_estop_fraction": (">", 0.9),      # the stop happened at cruise speed
 }
+# Robot-file tables it reads (scenarios/__init__.py): the chain, the plant, the joint controller.
+ROBOT_KEYS = ("chain", "sim", "controller")
+SIZES = {"q_start": "nq", "q_goal": "nq"}  # [rad] per joint
 GOAL_FRACTION = 0.9  # of each joint's free range (capped at 1 rad)
 
 
@@ -68,7 +72,13 @@ def run(settings: dict, seed: int = 0, duration: float | None = None,
                  for t in np.linspace(0.0, trajectory.end_time, 201))
     config = kl.ArmSupervisorConfig()
     config.stop_deceleration = np.array([float(settings["stop_deceleration"])])
-    supervisor = kl.ArmSupervisor(model, config)
+    with configuring(f"{NAME} supervisor"):
+        supervisor = kl.ArmSupervisor(model, config)
+    # A given duration must see the stop through: the e-stop, the planned stop from cruise speed
+    # (stop_deceleration > 0: the supervisor has checked it) with the time its criterion allows
+    # over the plan, then a judged hold.
+    check_duration(duration, minimum=t_estop + cruise / float(settings["stop_deceleration"])
+                   + CRITERIA["stop_time_over_plan_s"][1] + JUDGED_WINDOW, name=NAME)
     tick = SupervisedTick(controller(robot, model, "computed_torque", q_start), supervisor,
                           trajectory, t_estop)
 

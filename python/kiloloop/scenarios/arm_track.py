@@ -39,6 +39,9 @@ DEFAULTS = {
     "t_2": 3.5,           # [s] at waypoint 2
     "native": True,       # the C++ loop (sil/native.py); false: the per-tick Python loop
 }
+# Robot-file tables it reads (scenarios/__init__.py): the chain, the plant, the joint controller.
+ROBOT_KEYS = ("chain", "sim", "controller")
+SIZES = {"q_start": "nq", "waypoint_1": "nq", "waypoint_2": "nq"}  # [rad] per joint
 WAYPOINT_FRACTION = 0.5  # of each joint's free range (capped at 1 rad) per waypoint
 CRITERIA = {
     "max_joint_error_rad": ("<", 1e-3),
