@@ -65,15 +65,22 @@ def test_the_console_script_prints_no_traceback():
         assert len(r.stderr.strip().splitlines()) == 1, r.stderr
 
 
-def test_a_robot_file_with_a_string_gain_names_the_file_and_key(capsys, tmp_path):
+@pytest.mark.parametrize("table, key", [("[controller]\nkp = \"abc\"", "controller.kp"),
+                                        ("[scenario.arm-track]\nt_1 = \"soon\"",
+                                         "scenario.arm-track.t_1")])
+def test_a_robot_file_with_a_string_number_names_the_file_and_key(capsys, tmp_path, table, key):
     from kiloloop import models_dir
 
     src = models_dir() / "ur5"
     shutil.copy(src / "ur5.urdf", tmp_path / "ur5.urdf")
-    text = (src / "robot.toml").read_text().replace("[chain]", '[controller]\nkp = "abc"\n\n[chain]')
+    text = (src / "robot.toml").read_text()
+    if table.startswith("[scenario.arm-track]"):  # the file has that table: add to it
+        text = text.replace("[scenario.arm-track]", table)
+    else:
+        text = text.replace("[chain]", f"{table}\n\n[chain]")
     (tmp_path / "robot.toml").write_text(text)
     line = one_line_exit_2(capsys, ["run", "arm-track", "--robot", str(tmp_path / "robot.toml")],
-                           "controller.kp", "'abc'")
+                           key, "expected")
     assert str(tmp_path / "robot.toml") in line
 
 
@@ -191,9 +198,17 @@ def test_failed_criteria_stay_exit_1(capsys):
 
 
 def test_arm_estop_minimum_is_derived_from_its_own_motion():
-    # The e-stop half-way through the motion, then the planned stop: refused below it, with the
-    # figure; the default duration (3 s) is above it.
-    with pytest.raises(InputError, match=r"arm-estop needs at least (\d|\.)+ s") as err:
-        scenarios.run_named("arm-estop", duration=0.5)
-    minimum = float(str(err.value).split("at least ")[1].split(" s")[0])
-    assert 0.5 < minimum < arm_estop.DURATION
+    # The e-stop (given, or half-way through the motion), then the planned stop from cruise
+    # speed: the default duration (3 s) is above it; an e-stop given later moves it by as much.
+    robot, settings = scenarios.prepare(arm_estop)
+    rig = arm_estop.ArmRig(robot)
+    _, _, trajectory, t_estop, cruise = arm_estop.motion(rig, settings)
+    minimum = scenarios.min_duration(arm_estop, settings, robot)
+    given = settings["t_estop"]  # the UR5's robot file gives it; < 0: half-way
+    assert t_estop == pytest.approx(given if given >= 0 else 0.5 * trajectory.end_time)
+    slack = arm_estop.CRITERIA["stop_time_over_plan_s"][1]  # [s] over the planned stop
+    assert minimum == pytest.approx(t_estop + cruise / settings["stop_deceleration"] + slack
+                                    + scenarios.JUDGED_WINDOW)
+    assert t_estop < minimum < arm_estop.DURATION
+    later = scenarios.min_duration(arm_estop, dict(settings, t_estop=t_estop + 1.0), robot)
+    assert later == pytest.approx(minimum + 1.0)

@@ -48,7 +48,7 @@ def cmd_run(args) -> int:
 
     module = scenarios.get(args.scenario)
     robot, settings = scenarios.prepare(module, args.robot, args.set)
-    duration = scenarios.check_duration(args.duration, module, settings)
+    duration = scenarios.check_duration(args.duration, module, settings, robot)
     if args.video:
         settings["video"] = args.video
     result = scenarios.run(module, settings, robot, seed=args.seed, duration=duration)

@@ -31,6 +31,7 @@ from __future__ import annotations
 
 import importlib
 import math
+import numbers
 import warnings
 from dataclasses import dataclass, field
 
@@ -166,7 +167,8 @@ def prepare(module, robot=None, overrides: list[str] | dict | None = None, *,
     settings = dict(module.DEFAULTS)
     if hasattr(module, "derive"):
         settings.update(module.derive(robot))
-    settings = parse_settings(settings, robot.scenario_overrides(module.NAME))
+    settings = parse_settings(settings, robot.scenario_overrides(module.NAME),
+                              where=f"{robot.path}: scenario.{module.NAME}.")
     settings = parse_settings(settings, scenario_sets)
     check_sizes(module, settings, nq)
     return robot, settings
@@ -217,22 +219,26 @@ def check_sizes(module, settings: dict, nq: int | None) -> None:
             raise InputError(f"{key}: expected {what}, got {len(value)}")
 
 
-def min_duration(module, settings: dict | None = None) -> float:
-    """[s] the shortest run whose metrics `module` can judge: its min_duration(settings) or
-    MIN_DURATION (see the module doc), else JUDGED_WINDOW."""
+def min_duration(module, settings: dict | None = None, robot=None) -> float:
+    """[s] the shortest run whose metrics `module` can judge: its min_duration(settings[, robot])
+    (robot: where it depends on what the scenario derives from the robot) or MIN_DURATION (see
+    the module doc), else JUDGED_WINDOW."""
+    import inspect
+
     if hasattr(module, "min_duration"):
-        return float(module.min_duration(dict(module.DEFAULTS, **(settings or {}))))
+        settings = dict(module.DEFAULTS, **(settings or {}))
+        if "robot" in inspect.signature(module.min_duration).parameters:
+            return float(module.min_duration(settings, robot=robot))
+        return float(module.min_duration(settings))
     return float(getattr(module, "MIN_DURATION", JUDGED_WINDOW))
 
 
-def check_duration(duration, module=None, settings: dict | None = None, *,
-                   minimum: float | None = None, name: str | None = None,
-                   where: str = "--duration"):
+def check_duration(duration, module=None, settings: dict | None = None, robot=None, *,
+                   minimum: float | None = None, where: str = "--duration"):
     """A run's duration [s] as given (None: the scenario's default, returned as None), checked:
     a finite number > 0 and, for a module (or with `minimum`), at least what the scenario needs
     to judge its metrics (min_duration). Raises InputError with one line naming `where`. Used by
-    `kiloloop run` and `sweep` (the scenario's own minimum) and `b2b` (just > 0); a scenario
-    whose minimum depends on the robot checks it in its run() with `minimum` and `name`."""
+    `kiloloop run` and `sweep` (the scenario's own minimum, for `robot`) and `b2b` (just > 0)."""
     if duration is None:
         return None
     try:
@@ -242,9 +248,9 @@ def check_duration(duration, module=None, settings: dict | None = None, *,
     if not math.isfinite(d) or d <= 0:
         raise InputError(f"{where} {d:g}: expected a finite number of seconds > 0")
     if minimum is None and module is not None:
-        minimum = min_duration(module, settings)
+        minimum = min_duration(module, settings, robot)
     if minimum is not None and d < minimum - 1e-9:
-        name = name or (module.NAME if module is not None else "the scenario")
+        name = module.NAME if module is not None else "the scenario"
         raise InputError(f"{where} {d:g}: {name} needs at least {minimum:.4g} s to judge its "
                          f"metrics")
     return d
@@ -267,15 +273,19 @@ def run(module, settings: dict, robot, seed: int = 0, duration=None):
     return module.run(settings, seed=seed, duration=duration)
 
 
-def parse_settings(defaults: dict, overrides: list[str] | dict | None) -> dict:
-    """Applies `key=value` overrides to a scenario's DEFAULTS, converting to the default's type."""
+def parse_settings(defaults: dict, overrides: list[str] | dict | None, where: str = "") -> dict:
+    """Applies `key=value` overrides to a scenario's DEFAULTS, converting to the default's type;
+    `where` prefixes an error (`FILE: scenario.NAME.` for a robot file's table)."""
     settings = dict(defaults)
     items = overrides.items() if isinstance(overrides, dict) else (
         item.split("=", 1) for item in (overrides or []))
     for key, value in items:
         if key not in defaults:
             raise InputError(f"unknown setting {key!r}; known: {', '.join(sorted(defaults))}")
-        settings[key] = _convert(defaults[key], value, key)
+        try:
+            settings[key] = _convert(defaults[key], value, key)
+        except InputError as e:
+            raise InputError(f"{where}{e}") from None
     return settings
 
 
@@ -283,9 +293,10 @@ def _convert(default, value, key):
     """A --set string as the default's type: a bool (true/false, on/off, 1/0), an int, a finite
     float, a list of finite numbers (`0.1,-0.2` or `[0.1, -0.2]`; empty: `[]` or nothing), a
     number or `none` where the default is None, a string otherwise. Values that are not strings
-    (a robot file's [scenario.*] table, a script's dict) are taken as they are."""
+    (a robot file's [scenario.*] table, a script's dict) are taken as they are, once checked to
+    be of the default's kind."""
     if not isinstance(value, str):
-        return value
+        return _checked(default, value, key)
     if isinstance(default, bool):
         if value.lower() in ("1", "true", "yes", "on"):
             return True
@@ -312,7 +323,29 @@ def _convert(default, value, key):
 
 
 def _is_number(v) -> bool:
-    return isinstance(v, (int, float)) and not isinstance(v, bool)
+    return isinstance(v, numbers.Real) and not isinstance(v, bool)
+
+
+def _checked(default, value, key):
+    """A value that is not a string, as given, when it is of the default's kind (a number for a
+    number, a whole one for an int, a sequence of numbers for a list, a number or None for None);
+    anything else is an InputError naming the key."""
+    if isinstance(default, bool):
+        ok, kind = isinstance(value, bool), "true or false"
+    elif isinstance(default, int):
+        ok, kind = _is_number(value) and float(value) == int(value), "a whole number"
+    elif isinstance(default, float):
+        ok, kind = _is_number(value), "a number"
+    elif isinstance(default, (list, tuple)):
+        ok = hasattr(value, "__len__") and all(_is_number(v) for v in value)
+        kind = "a list of numbers"
+    elif default is None:
+        ok, kind = value is None or _is_number(value), "a number or none"
+    else:
+        ok, kind = True, ""
+    if not ok:
+        raise InputError(f"{key}: expected {kind}, got {value!r}")
+    return value
 
 
 def _finite(key, value, text):
