@@ -107,6 +107,8 @@ def test_both_list_forms_give_the_same_settings_and_robot():
     _, bare = scenarios.prepare(arm_track, None, [f"q_start={UR5_Q}"])
     _, toml = scenarios.prepare(arm_track, None, [f"q_start=[{UR5_Q}]"])
     assert bare["q_start"] == toml["q_start"] == [float(v) for v in UR5_Q.split(",")]
+    _, python = scenarios.prepare(arm_track, None, ["q_start=[.5, 1., -.5, 0, 0, 0]"])
+    assert python["q_start"] == [0.5, 1.0, -0.5, 0.0, 0.0, 0.0]  # numbers TOML would refuse
     _, empty = scenarios.prepare(arm_track, None, ["q_start=[]"])
     assert empty["q_start"] == []  # empty: derived, as the default
     kp = "100,200,300,400,500,600"
@@ -117,7 +119,8 @@ def test_both_list_forms_give_the_same_settings_and_robot():
 
 
 @pytest.mark.parametrize("args, minimum", [
-    (["run", "quadruped-trot", "--duration", "1"], quadruped_trot.SETTLED + scenarios.JUDGED_WINDOW),
+    (["run", "quadruped-trot", "--duration", "1"],
+     quadruped_trot.SETTLED + scenarios.JUDGED_WINDOW),
     (["run", "quadruped-push", "--duration", "2.5"], quadruped_push.MIN_DURATION),
     (["run", "arm-press", "--duration", "1"], None),
     (["run", "arm-estop", "--duration", "0.5"], None),

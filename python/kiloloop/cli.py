@@ -142,7 +142,6 @@ def cmd_export(args) -> int:
 def cmd_b2b(args) -> int:
     from .firmware.b2b import run_b2b
     from .firmware.build import BuildError
-
     from .scenarios import check_duration
 
     # Bits are compared, not metrics: any duration > 0 will do (no scenario minimum).
@@ -186,6 +185,7 @@ def _warnings_as_lines(prog: str):
     """kiloloop's own warnings (UnreadKeyWarning) as one line `PROG: warning: ...` on stderr;
     any other warning as Python shows it."""
     with warnings.catch_warnings():
+        warnings.simplefilter("always", UnreadKeyWarning)  # each run says it, not once a process
         show = warnings.showwarning
 
         def one_line(message, category, filename, lineno, file=None, line=None):

@@ -96,7 +96,6 @@ def controller_config(robot, actuation_delay: float | None = None):
     radius) from the URDF, the declared actuation delay, then the file's [controller] table
     (which wins)."""
     from .. import _core
-
     from .robot_file import RobotFileError
 
     config = _core.QuadrupedConfig()
@@ -105,8 +104,8 @@ def controller_config(robot, actuation_delay: float | None = None):
         config.trunk_link = legs["base"]
     if legs.get("feet"):
         if len(legs["feet"]) != 4:
-            raise RobotFileError(f"{robot.path}: legs.feet: expected 4 links (FL, FR, RL, RR), got "
-                             f"{len(legs['feet'])}")
+            raise RobotFileError(f"{robot.path}: legs.feet: expected 4 links (FL, FR, RL, RR), "
+                                 f"got {len(legs['feet'])}")
         config.feet = list(legs["feet"])
     config.foot_offset, config.foot_radius = foot_contact(robot)
     if actuation_delay is not None:

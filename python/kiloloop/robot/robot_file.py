@@ -52,8 +52,9 @@ def resolve_robot_path(name_or_path) -> Path:
 
 def parse_value(text: str):
     """A --set value as TOML would read it (1, 2.5, true, [1, 2], "s"); a list may also be given
-    bare, `0.1,-0.2` as `[0.1, -0.2]` (what a shell user types; both forms work for every key);
-    anything else (a bare word) stays a str, for the reader to accept or refuse."""
+    bare, `0.1,-0.2` as `[0.1, -0.2]` (what a shell user types; both forms work for every key),
+    and numbers as Python writes them (`.5`, `1.`, which TOML refuses); anything else (a bare
+    word) stays a str, for the reader to accept or refuse."""
     for form in (f"v = {text}", f"v = [{text}]" if "," in text else None):
         if form is None:
             continue
@@ -61,7 +62,13 @@ def parse_value(text: str):
             return tomllib.loads(form)["v"]
         except tomllib.TOMLDecodeError:
             pass
-    return text
+    bare = text.strip()
+    is_list = "," in bare or bare.startswith("[")
+    try:
+        numbers = [float(v) for v in bare.strip("[]").split(",")] if bare.strip("[] ") else []
+    except ValueError:
+        return text
+    return numbers if is_list else (numbers[0] if numbers else text)
 
 
 def _set_dotted(data: dict, dotted: str, value) -> None:
