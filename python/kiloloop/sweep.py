@@ -129,7 +129,7 @@ def run_sweep(scenario: str, grid: dict[str, list[str]], workers: int | None = N
         robot_sets, scenario_sets = scenarios.split_overrides(point)
         point_robot = robot_obj.with_overrides(robot_sets) if robot_sets else robot_obj
         settings = scenarios.parse_settings(base, scenario_sets)
-        scenarios.check_sizes(module, settings, scenarios.check_robot_sizes(point_robot))
+        scenarios.check_settings(module, settings, scenarios.check_robot_sizes(point_robot))
         scenarios.check_duration(duration, module, settings, point_robot)
     workers = max(1, int(workers or os.cpu_count() or 1))
     if backend == "ray":

@@ -21,6 +21,8 @@ Optional declarations a scenario module may make, checked here before anything r
 - SIZES: setting -> "nq" (one value per joint of the robot's controlled chain) or a count; a
   list setting given with another count is refused (an empty list, where it means "derived",
   is always accepted).
+- LIMITS: setting -> (comparison, bound) as in CRITERIA (`"slide_time": (">", 0.0)`): what a
+  value must satisfy to mean anything (a zero duration, a negative speed scale).
 - ROBOT_KEYS: the robot-file tables (dotted prefixes) it reads; a --set of any other robot-file
   key has no effect on it and draws a warning (UnreadKeyWarning). Default: every table.
 
@@ -170,7 +172,7 @@ def prepare(module, robot=None, overrides: list[str] | dict | None = None, *,
     settings = parse_settings(settings, robot.scenario_overrides(module.NAME),
                               where=f"{robot.path}: scenario.{module.NAME}.")
     settings = parse_settings(settings, scenario_sets)
-    check_sizes(module, settings, nq)
+    check_settings(module, settings, nq)
     return robot, settings
 
 
@@ -204,6 +206,16 @@ def check_robot_sizes(robot) -> int | None:
     if robot.kind == "aerial" and robot.section("vehicle").get("ee"):
         return robot.model().nq
     return None
+
+
+def check_settings(module, settings: dict, nq: int | None) -> None:
+    """The settings against the module's SIZES and LIMITS (module doc); nq: the robot's joints
+    (check_robot_sizes). Raises InputError naming the setting, what it expects and what it got."""
+    check_sizes(module, settings, nq)
+    for key, (op, bound) in getattr(module, "LIMITS", {}).items():
+        value = settings.get(key)
+        if _is_number(value) and not _OPS[op](value, bound):
+            raise InputError(f"{key}: expected {op} {bound:g}, got {value:g}")
 
 
 def check_sizes(module, settings: dict, nq: int | None) -> None:

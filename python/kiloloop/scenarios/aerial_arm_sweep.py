@@ -34,6 +34,8 @@ DESCRIPTION = "hover while the arm sweeps; attitude error p-p with vs without re
 DURATION = 5.0
 DEFAULTS = dict(COMMON_DEFAULTS, amplitude=1.5, elbow_ratio=0.0, period=4.0, start=0.5, cycles=1,
                 sweep_joint=1)
+# Settings' valid ranges (scenarios/__init__.py): a zero time or scale means nothing.
+LIMITS = {"period": (">", 0.0), "cycles": (">=", 1), "start": (">=", 0.0)}
 MAX_AMPLITUDE = 1.5  # [rad]
 LIMIT_SHARE = 0.9    # of the room between the start pose and the nearer limit
 

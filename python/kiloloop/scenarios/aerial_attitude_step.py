@@ -15,6 +15,8 @@ NAME = "aerial-attitude-step"
 DESCRIPTION = "10 deg roll step, both attitude laws: overshoot and steady-state error"
 DURATION = 2.5
 DEFAULTS = dict(COMMON_DEFAULTS, law="both", step_deg=10.0, step_time=0.5)
+# Settings' valid ranges (scenarios/__init__.py): a zero time or scale means nothing.
+LIMITS = {"step_time": (">=", 0.0)}
 STEADY_WINDOW = 0.5  # [s] at the end, for the steady-state error
 
 

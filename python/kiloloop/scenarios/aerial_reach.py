@@ -24,6 +24,8 @@ DURATION = 4.5
 DEFAULTS = dict(COMMON_DEFAULTS, hold_com=False, q_start=[0.0, -0.8, 0.6],
                 displacement=[-0.05, 0.12, 0.08], t_start=0.5, t_move=3.0)
 CRITERIA = {"max_ee_error_m": ("<", 0.01), "diverged": ("<", 0.5)}
+# Settings' valid ranges (scenarios/__init__.py): a zero time or scale means nothing.
+LIMITS = {"t_start": (">=", 0.0), "t_move": (">", 0.0)}
 SIZES = {"q_start": "nq", "displacement": 3}  # [rad] per arm joint; [m] x, y, z
 
 

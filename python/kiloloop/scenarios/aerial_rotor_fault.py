@@ -14,6 +14,8 @@ NAME = "aerial-rotor-fault"
 DESCRIPTION = "one rotor at 70 % efficiency from t = 1 s: stays airborne, within 10 cm"
 DURATION = 6.0
 DEFAULTS = dict(COMMON_DEFAULTS, rotor=0, efficiency=0.7, fault_time=1.0)
+# Settings' valid ranges (scenarios/__init__.py): a zero time or scale means nothing.
+LIMITS = {"fault_time": (">=", 0.0), "efficiency": (">=", 0.0)}
 CRITERIA = {"max_hover_deviation_m": ("<", 0.10), "airborne": (">", 0.5)}
 
 

@@ -47,6 +47,9 @@ CRITERIA = {
 # Robot-file tables it reads (scenarios/__init__.py): the chain, the plant, the joint controller.
 ROBOT_KEYS = ("chain", "sim", "controller")
 SIZES = {"q_start": "nq", "q_goal": "nq"}  # [rad] per joint
+# Settings' valid ranges (scenarios/__init__.py): a zero time or scale means nothing.
+LIMITS = {"velocity_scale": (">", 0.0), "acceleration": (">", 0.0),
+          "stop_deceleration": (">", 0.0), "stopped_speed": (">", 0.0)}
 GOAL_FRACTION = 0.9  # of each joint's free range (capped at 1 rad)
 
 

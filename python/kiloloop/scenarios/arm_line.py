@@ -39,6 +39,9 @@ DEFAULTS = {
 # Robot-file tables it reads (scenarios/__init__.py): the chain, the plant, the joint controller.
 ROBOT_KEYS = ("chain", "sim", "controller")
 SIZES = {"q_start": "nq", "displacement": 3, "rotation": 3}
+# Settings' valid ranges (scenarios/__init__.py): a zero time or scale means nothing.
+LIMITS = {"physics_dt": (">", 0.0), "delay_ticks": (">=", 0), "t_start": (">=", 0.0),
+          "line_duration": (">", 0.0)}
 CRITERIA = {
     "max_ee_error_m": ("<", 1e-3),
     "max_ee_orientation_error_rad": ("<", 5e-3),

@@ -56,6 +56,9 @@ DEFAULTS = {
 # impedance controllers take their own gains (the settings below), not [controller]'s.
 ROBOT_KEYS = ("chain", "sim")
 SIZES = {"q0": "nq", "solref": 2, "solimp": 5, "kf": 1, "ki": 1, "kv": 1}
+# Settings' valid ranges (scenarios/__init__.py): a zero time or scale means nothing.
+LIMITS = {"settle": (">=", 0.0), "slide_time": (">", 0.0), "gap": (">=", 0.0),
+          "friction": (">=", 0.0), "measure_from": (">=", 0.0), "noslip_iterations": (">=", 0)}
 CRITERIA = {
     "max_force_error_N": ("<", 0.5),
     "max_x_error_m": ("<", 0.002),

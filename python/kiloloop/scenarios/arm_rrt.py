@@ -47,6 +47,9 @@ DEFAULTS = {
 # and the link capsules the planner checks.
 ROBOT_KEYS = ("chain", "sim", "controller", "collision")
 SIZES = {"q_start": "nq", "q_goal": "nq", "box_center": 3, "box_half_extents": 3}
+# Settings' valid ranges (scenarios/__init__.py): a zero time or scale means nothing.
+LIMITS = {"velocity_scale": (">", 0.0), "acceleration": (">", 0.0), "margin": (">=", 0.0),
+          "max_iterations": (">", 0), "shortcut_iterations": (">=", 0)}
 ROTATION = 2.0      # [rad] of the first joint between start and goal
 BOX_WIDTH = 0.08    # of the reach: the box's half extent in x and y
 CRITERIA = {

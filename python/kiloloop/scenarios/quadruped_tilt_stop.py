@@ -14,6 +14,8 @@ DURATION = 2.0
 PUSH_TIME = 0.5
 # impulse [N s]: 0 = impulse_per_kg times the robot's mass (40 N s on the 17.6 kg model).
 DEFAULTS = dict(COMMON_DEFAULTS, impulse=0.0, impulse_per_kg=2.3, push_duration=0.1, push_height=0.0)
+# Settings' valid ranges (scenarios/__init__.py): a zero time or scale means nothing.
+LIMITS = {"push_duration": (">", 0.0)}
 CRITERIA = {"ticks_late": ("<=", 1.0), "tilted": (">", 0.5)}
 
 
