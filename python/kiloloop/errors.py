@@ -31,10 +31,11 @@ class UnreadKeyWarning(UserWarning):
 
 @contextlib.contextmanager
 def configuring(what: str):
-    """Within: a ValueError from a compiled controller's configure (its C++ validate refusing a
-    gain, a limit or a time, all of which come from the robot file and the scenario settings)
-    becomes an InputError `WHAT: reason` (the reason names the field). Only around constructors
-    of compiled configs: a ValueError anywhere else is not the user's doing."""
+    """Within: a ValueError from a compiled object's constructor (a controller's configure, a
+    trajectory: the C++ validate refusing a gain, a limit or a time, all of which come from the
+    robot file and the scenario settings) becomes an InputError `WHAT: reason` (the reason names
+    the field). Only around such constructors: a ValueError anywhere else is not the user's
+    doing."""
     try:
         yield
     except InputError:

@@ -15,9 +15,10 @@ per tick in Python: arm-press (tool force sensor each tick), arm-rrt (MuJoCo box
 tick), aerial-* (no native adapter yet). README "Native SIL loop" says why.
 
 Optional declarations a scenario module may make, checked here before anything runs:
-- MIN_DURATION [s], or min_duration(settings) -> [s]: the shortest run whose metrics it can judge
-  (its metric windows and events, plus JUDGED_WINDOW), from its own constants; default
-  JUDGED_WINDOW. `check_duration` refuses a shorter --duration.
+- MIN_DURATION [s], or min_duration(settings[, robot]) -> [s]: the shortest run whose metrics
+  it can judge (its metric windows and events, plus JUDGED_WINDOW), from its own constants (and
+  what it derives from the robot, arm-estop); default JUDGED_WINDOW. `check_duration` refuses a
+  shorter --duration.
 - SIZES: setting -> "nq" (one value per joint of the robot's controlled chain) or a count; a
   list setting given with another count is refused (an empty list, where it means "derived",
   is always accepted).
