@@ -19,6 +19,7 @@
 #include "sil/aerial_adapter.hpp"
 #include "sil/arm_adapters.hpp"
 #include "sil/attitude_noise.hpp"
+#include "sil/dropout_stage.hpp"
 #include "sil/batch.hpp"
 #include "sil/imu_model.hpp"
 #include "sil/legged_sensor_stages.hpp"
@@ -221,6 +222,12 @@ void bind_native(py::module_& parent) {
         s.apply(t, out.data());
         return out;
       }, py::arg("y"), py::arg("t") = 0.0, "y with the stage applied (a copy; the per-tick Python loop)");
+  py::class_<DropoutStage, SensorStage, std::shared_ptr<DropoutStage>>(
+      m, "DropoutStage", "y[offset..offset+count) frozen at its last value during [start, start + duration) [s]")
+      .def(py::init([](int offset, int count, double start, double duration) {
+             return std::make_shared<DropoutStage>(offset, count, start, duration);
+           }),
+           py::arg("offset"), py::arg("count"), py::arg("start"), py::arg("duration"));
   py::class_<Disturbance, std::shared_ptr<Disturbance>>(m, "Disturbance", "a per-tick wrench on a body (disturbance.hpp)");
   py::class_<WindDrag, Disturbance, std::shared_ptr<WindDrag>>(m, "WindDrag", "wind drag at a body's subtree CoM (wind_drag.hpp)")
       .def(py::init([](int body, int velocity_adr, const Eigen::Vector3d& steady, double ramp, double gust_sigma,

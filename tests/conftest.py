@@ -1,3 +1,5 @@
+pytest_plugins = ["pytester"]  # the pytest plugin's fixture test (tests/test_scenario_files.py)
+
 from pathlib import Path
 
 import numpy as np

@@ -40,36 +40,54 @@ def cmd_list(_args) -> int:
 
     for name in scenarios.names():
         print(f"{name:<20} {scenarios.get(name).DESCRIPTION}")
+    print("\nscenario files to copy and edit (docs/scenarios.md):")
+    for path in scenarios.example_files():
+        print(f"  {path}")
     return 0
 
 
 def cmd_run(args) -> int:
     from . import scenarios
 
-    module = scenarios.get(args.scenario)
+    module = scenarios.get(args.scenario)   # a built-in scenario, or a scenario file as one
     robot, settings = scenarios.prepare(module, args.robot, args.set)
     duration = scenarios.check_duration(args.duration, module, settings, robot)
     if args.video:
         settings["video"] = args.video
     result = scenarios.run(module, settings, robot, seed=args.seed, duration=duration)
-    _report(args, result, settings, module.plot_signals())
+    if args.baseline:
+        from .scenarios.scenario_file import baseline
+
+        result.criteria["baseline"] = baseline.compare(
+            result.log, args.baseline, {}, getattr(result, "components", None))
+    if args.save_baseline:
+        from .scenarios.scenario_file import baseline
+
+        baseline.save(result.log, args.save_baseline, result.log.names())
+    _report(args, module, result, settings)
     return 0 if result.passed else 1
 
 
-def _report(args, result, settings, plot_signals) -> None:
+def _report(args, module, result, settings) -> None:
     """What `kiloloop run` writes after a run: --log, --plot, then --json or the summary."""
     if args.log:
         result.log.save(args.log)
     if args.plot:
-        from .plot import plot_log
+        from .scenarios.plots import plot_result
 
         title = f"{result.scenario} ({settings.get('controller', '')})".replace(" ()", "")
-        plot_log(result.log, plot_signals, args.plot, title=title)
+        plot_result(result, module.plot_signals(), args.plot, title=title)
     if args.json:
         print(json.dumps(result.to_json()))
     else:
-        _print_summary(result, settings)
-        for label, path in (("log", args.log), ("plot", args.plot), ("video", args.video)):
+        if hasattr(module, "scenario"):   # a scenario file: its criteria table says it all
+            from .scenarios.scenario_file.report import summary
+
+            print(summary(result))
+        else:
+            _print_summary(result, settings)
+        for label, path in (("log", args.log), ("plot", args.plot), ("video", args.video),
+                            ("baseline", args.save_baseline)):
             if path:
                 print(f"  {label}: {path}")
 
@@ -106,6 +124,20 @@ def cmd_bench(args) -> int:
     from .bench import run_benchmarks
 
     return run_benchmarks(quick=args.quick, as_json=args.json, robot=args.robot)
+
+
+def cmd_signals(args) -> int:
+    from .robot import Robot
+    from .scenarios.scenario_file.signals import components_of, table
+
+    try:
+        robot = Robot.load(args.robot)
+    except (ValueError, FileNotFoundError) as e:
+        print(f"kiloloop signals: {e}", file=sys.stderr)
+        return 2
+    print(f"signals of {robot.name} ({robot.kind}); every one against t [s]:")
+    print(table(robot.kind, components_of(robot)))
+    return 0
 
 
 def cmd_robot_check(args) -> int:
@@ -148,7 +180,7 @@ def cmd_b2b(args) -> int:
     duration = check_duration(args.duration)
     try:
         result = run_b2b(args.robot, duration=duration, seed=args.seed,
-                         sets=_robot_sets(args.set), work=args.work)
+                         sets=_robot_sets(args.set), work=args.work, scenario=args.scenario)
     except BuildError as e:  # no compiler, a failed build: the environment, not the input
         print(f"kiloloop b2b: {e.args[0]}", file=sys.stderr)
         return 2
@@ -227,9 +259,11 @@ def _build_parser() -> argparse.ArgumentParser:
     sub = parser.add_subparsers(dest="command", required=True)
     sub.add_parser("list", help="list the SIL scenarios").set_defaults(func=cmd_list)
     run = sub.add_parser("run", help="run one SIL scenario")
-    run.add_argument("scenario")
+    run.add_argument("scenario", metavar="SCENARIO|FILE.toml",
+                     help="a built-in scenario (kiloloop list) or a scenario file (docs/scenarios.md)")
     run.add_argument("--duration", type=float, default=None, help="simulated time [s]")
-    run.add_argument("--seed", type=_seed, default=0, help="seed for noise and randomness")
+    run.add_argument("--seed", type=_seed, default=None,
+                     help="seed for noise and randomness (default: the file's, else 0)")
     run.add_argument("--robot", default=None, metavar="NAME|FILE",
                      help="robot name in models/ or a robot file (default: the scenario's own)")
     run.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",
@@ -239,6 +273,11 @@ def _build_parser() -> argparse.ArgumentParser:
     run.add_argument("--plot", metavar="PNG", help="write a plot")
     run.add_argument("--log", metavar="NPZ", help="write the signal log")
     run.add_argument("--video", metavar="MP4", help="render the run (MuJoCo offscreen, 30 fps)")
+    run.add_argument("--save-baseline", metavar="NPZ",
+                     help="write the run's signals as a baseline for later runs")
+    run.add_argument("--baseline", metavar="NPZ",
+                     help="compare the run with a baseline, every signal bit for bit (a "
+                          "scenario file's [baseline] table sets tolerances)")
     run.set_defaults(func=cmd_run)
     sweep = sub.add_parser("sweep", help="run a scenario over a grid of settings, in parallel")
     sweep.add_argument("scenario")
@@ -264,6 +303,10 @@ def _build_parser() -> argparse.ArgumentParser:
     bench.add_argument("--robot", default=None, metavar="NAME|FILE",
                        help="also time the SIL loop and steps of this robot")
     bench.set_defaults(func=cmd_bench)
+    signals = sub.add_parser("signals", help="the signals a scenario file's criteria, "
+                                             "baselines and plots read, for one robot")
+    signals.add_argument("robot", metavar="NAME|FILE")
+    signals.set_defaults(func=cmd_signals)
     robot = sub.add_parser("robot", help="robot files: check one")
     robot_sub = robot.add_subparsers(dest="robot_command", required=True)
     check = robot_sub.add_parser("check", help="load everything, print what was derived")
@@ -279,8 +322,13 @@ def _build_parser() -> argparse.ArgumentParser:
     b2b = sub.add_parser("b2b", help="back-to-back: SIL log replayed through the exported "
                                      "firmware, outputs compared bit for bit")
     b2b.add_argument("robot", metavar="NAME|FILE")
-    b2b.add_argument("--duration", type=float, default=1.0, help="simulated time [s] (default 1)")
-    b2b.add_argument("--seed", type=_seed, default=0)
+    b2b.add_argument("--duration", type=float, default=None,
+                     help="simulated time [s] (default: the scenario file's, else 1)")
+    b2b.add_argument("--seed", type=_seed, default=None,
+                     help="default: the scenario file's, else 0")
+    b2b.add_argument("--scenario", default=None, metavar="FILE.toml",
+                     help="record the SIL run of this scenario file (default: the family's "
+                          "built-in b2b scenario)")
     b2b.add_argument("--set", action="append", default=[], metavar="KEY=VALUE")
     b2b.add_argument("--work", default=None, metavar="DIR",
                      help="build directory (default: build/firmware of the source tree)")

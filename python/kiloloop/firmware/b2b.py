@@ -80,11 +80,13 @@ def check_model(exe: Path, robot, chains, work: Path) -> tuple[bool, int]:
     return True, compared
 
 
-def run_b2b(robot_arg, *, duration: float = 1.0, seed: int = 0, sets: dict | None = None,
-            work=None, prefix=None, echo=print) -> B2bResult:
+def run_b2b(robot_arg, *, duration: float | None = None, seed: int | None = None,
+            sets: dict | None = None, work=None, prefix=None, echo=print,
+            scenario: str | None = None) -> B2bResult:
     """SIL run -> log -> export -> firmware build -> replay, for one robot. `prefix`: an install of
     the firmware core (build.install_rt_core) to build against; by default it is built or updated
-    in `work` first."""
+    in `work` first. scenario: a scenario file whose run is recorded (default: the family's
+    built-in b2b scenario); duration and seed None: the file's own, else 1 s and 0."""
     from .. import _core
     from ..robot import Robot
 
@@ -93,14 +95,21 @@ def run_b2b(robot_arg, *, duration: float = 1.0, seed: int = 0, sets: dict | Non
     source = build.source_root()
     work = Path(work) if work else source / "build" / "firmware"
     here = work / _slug(robot.name)
-    echo(f"b2b {robot.name} ({family.name}): SIL {family.scenario}, {duration:g} s, seed {seed}")
-    rec = record_sil_run(robot, family, duration=duration, seed=seed, sets=sets)
+    if scenario is None:
+        duration = 1.0 if duration is None else duration
+        seed = 0 if seed is None else seed
+    what = scenario or family.scenario
+    echo(f"b2b {robot.name} ({family.name}): SIL {what}"
+         + (f", {duration:g} s" if duration is not None else "")
+         + (f", seed {seed}" if seed is not None else ""))
+    rec = record_sil_run(robot, family, duration=duration, seed=seed, sets=sets,
+                         scenario=scenario)
     log = here / "b2b.log"
     digest = write_log(rec, _core.firmware.FAMILY[family.name], log)
     echo(f"  SIL log: {rec.ticks} ticks, sha256 {digest[:16]}..  ({log})")
     c = rec.controller
     header = write_export(robot, family, c.model, c.config, here / "export",
-                          {"scenario": family.scenario, "seed": seed, "duration": duration})
+                          {"scenario": what, "seed": seed, "duration": duration})
     echo(f"  export: {header}")
     prefix = Path(prefix) if prefix else build.install_rt_core(source, work)
     exe = build.build_firmware(source, prefix, header.parent, here / "build")

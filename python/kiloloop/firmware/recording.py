@@ -69,12 +69,13 @@ class SilRecording:
     passed: bool                     # the scenario's own criteria (informative here)
 
 
-def record_sil_run(robot, family: Family, *, duration: float, seed: int = 0,
-                   sets: dict | None = None) -> SilRecording:
-    """Runs the family's scenario on `robot` and returns its stepped controller's records."""
+def record_sil_run(robot, family: Family, *, duration: float | None, seed: int | None = 0,
+                   sets: dict | None = None, scenario: str | None = None) -> SilRecording:
+    """Runs the family's scenario (or the scenario file `scenario`) on `robot` and returns its
+    stepped controller's records (duration, seed None: the scenario's own)."""
     from .. import scenarios
 
-    module = scenarios.get(family.scenario)
+    module = scenarios.get(scenario or family.scenario)
     overrides = {**family.settings, **(sets or {})}
     robot, settings = scenarios.prepare(module, robot, overrides)
     with recording(family) as made:

@@ -82,6 +82,8 @@ class ScenarioResult:
     criteria: dict[str, dict] = field(default_factory=dict)
     log: SignalLog | None = None
     settings: dict = field(default_factory=dict)
+    components: dict = field(default_factory=dict)   # signal -> component names (files' signals)
+    scenario_file: object = None                      # the ScenarioFile a file's run came from
 
     @property
     def passed(self) -> bool:
@@ -110,7 +112,20 @@ def names() -> list[str]:
     return list(_MODULES)
 
 
+def example_files() -> list:
+    """The scenario files that ship with kiloloop (scenarios/files/), one or more per family."""
+    from pathlib import Path
+
+    return sorted((Path(__file__).parent / "files").glob("*.toml"))
+
+
 def get(name: str):
+    """A built-in scenario's module by name, or a scenario file (a path ending in .toml) seen as
+    one (scenario_file/as_module.py: ScenarioFileError, a ValueError, when it is broken)."""
+    if str(name).endswith(".toml"):
+        from .scenario_file.as_module import FileScenario
+
+        return FileScenario(name)
     if name not in _MODULES:
         raise UnknownName(f"unknown scenario {name!r}; known: {', '.join(_MODULES)}")
     return importlib.import_module(f"{__name__}.{_MODULES[name]}")
@@ -136,7 +151,7 @@ def default_robot(module) -> str:
 
 
 def kind_of(module) -> str:
-    return module.NAME.split("-")[0]
+    return getattr(module, "KIND", None) or module.NAME.split("-")[0]
 
 
 def prepare(module, robot=None, overrides: list[str] | dict | None = None, *,
@@ -151,11 +166,15 @@ def prepare(module, robot=None, overrides: list[str] | dict | None = None, *,
 
     from ..robot import Robot
 
+    if hasattr(module, "prepare"):   # a scenario file: its own layering and error keys
+        return module.prepare(robot, overrides)
     robot_sets, scenario_sets = split_overrides(overrides)
     if not isinstance(robot, Robot):
         robot = Robot.load(default_robot(module) if robot is None else robot)
-    if robot_sets:
-        robot = robot.with_overrides(robot_sets)
+    # A scenario file's own robot-file settings first, then the overrides'.
+    for sets in (getattr(module, "ROBOT_OVERRIDES", {}), robot_sets):
+        if sets:
+            robot = robot.with_overrides(sets)
     if robot.kind != kind_of(module):
         raise InputError(f"{module.NAME} needs a robot of kind '{kind_of(module)}'; "
                          f"{robot.name} is '{robot.kind}'")
@@ -277,13 +296,23 @@ def run_named(name: str, robot=None, overrides: list[str] | dict | None = None, 
     return run(module, settings, robot, seed=seed, duration=duration)
 
 
-def run(module, settings: dict, robot, seed: int = 0, duration=None):
-    """module.run with the robot when the scenario reads robot files."""
+def run(module, settings: dict, robot, seed: int | None = 0, duration=None):
+    """module.run with the robot when the scenario reads robot files; the log comes back
+    described (units, component names: scenarios/signals.py). seed None: the scenario's own
+    (a scenario file's `seed`, else 0)."""
     import inspect
 
+    from .signals import describe
+
+    seed = getattr(module, "SEED", 0) if seed is None else seed
+
     if "robot" in inspect.signature(module.run).parameters:
-        return module.run(settings, seed=seed, duration=duration, robot=robot)
-    return module.run(settings, seed=seed, duration=duration)
+        result = module.run(settings, seed=seed, duration=duration, robot=robot)
+    else:
+        result = module.run(settings, seed=seed, duration=duration)
+    if result.log is not None and result.scenario_file is None:   # a file's run describes its own
+        describe(result.log, kind_of(module), robot)
+    return result
 
 
 def parse_settings(defaults: dict, overrides: list[str] | dict | None, where: str = "") -> dict:

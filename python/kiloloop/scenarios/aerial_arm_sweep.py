@@ -3,7 +3,8 @@ run with the reaction feed-forward on and off. Any arm (derive()): the swept joi
 moves the arm's centre of mass the most sideways from the start pose (the aerial manipulator's
 shoulder), the amplitude 1.5 rad or 90 % of the room its limits leave, whichever is smaller; the
 next joint (if any) counter-swings by elbow_ratio. Reports the attitude error peak-to-peak
-for both and the reduction the feed-forward brings (goal >= 60 %).
+for both and the reduction the feed-forward brings (goal >= 60 %). The log is the feed-forward on
+run's, with the off run's signals beside it under "_no_ff" (the plot shows both).
 
 Both runs differ only in the reaction feed-forward: everything else, the position loop's target
 included (hold_com: the vehicle's centre of mass, the default; or the body origin), is the same.
@@ -23,11 +24,12 @@ import numpy as np
 
 import kiloloop as kl
 
-from ..sil.aerial_rig import (AERIAL_PLOT, COMMON_DEFAULTS, CONTROL_DT, REFERENCE_WIDTH,
+from ..sil.aerial_rig import (COMMON_DEFAULTS, CONTROL_DT, REFERENCE_WIDTH,
                               add_derived, diverged, reference_row, rig_from_settings,
                               rotation_vector_error)
 from ..errors import InputError
 from . import JUDGED_WINDOW, ScenarioResult, evaluate
+from .plots import AERIAL_ARM_SWEEP_PLOT
 
 NAME = "aerial-arm-sweep"
 DESCRIPTION = "hover while the arm sweeps; attitude error p-p with vs without reaction FF"
@@ -72,6 +74,7 @@ def derive(robot) -> dict:
 CRITERIA = {"attitude_ptp_reduction": (">=", 0.60), "diverged_ff": ("<", 0.5),
             "diverged_no_ff": ("<", 0.5)}
 SMOOTH = 0.05  # [s] moving average before the peak-to-peak
+OFF_SUFFIX = "_no_ff"  # the feed-forward off run's signals in the returned log
 
 
 def sweep_trajectory(settings, nq: int, q0=None) -> "kl.QuinticTrajectory":
@@ -145,7 +148,8 @@ def run(settings: dict, seed: int = 0, duration: float | None = None,
     if duration is None:
         duration = max(DURATION, settings["start"] + settings["period"] * settings["cycles"] + 0.5)
     on, log = _one(settings, True, seed, duration, robot)
-    off, _ = _one(settings, False, seed, duration, robot)
+    off, log_off = _one(settings, False, seed, duration, robot)
+    keep_both(log, log_off, OFF_SUFFIX)
     metrics = {
         "attitude_ptp_deg_ff": on["ptp"],
         "attitude_ptp_deg_no_ff": off["ptp"],
@@ -171,6 +175,20 @@ def run(settings: dict, seed: int = 0, duration: float | None = None,
     return result
 
 
+def keep_both(log, other, suffix: str) -> None:
+    """Adds the other run's per-tick signals to `log` under name + suffix, so that one log (and
+    its plot) holds both runs; a run that stopped early is padded with NaN to log's length."""
+    ticks = len(log["t"])
+    for name in other.names():
+        series = other[name]
+        if name == "t" or len(series) != len(other["t"]):
+            continue  # time is shared; event records (diverged) are not per tick
+        padded = np.full((ticks,) + series.shape[1:], np.nan)
+        n = min(ticks, len(series))
+        padded[:n] = series[:n]
+        log.put_array(name + suffix, padded)
+
+
 def plot_signals():
-    return [("attitude vs level (FF on)", "att_level_deg", None, "deg"),
-            ("arm joints", "q", "q_ref", "rad")] + AERIAL_PLOT[:3]
+    """Both runs, feed-forward on and off, on shared scales (scenarios/plots.py)."""
+    return AERIAL_ARM_SWEEP_PLOT

@@ -7,9 +7,10 @@ import numpy as np
 
 import kiloloop as kl
 
-from ..sil.aerial_rig import (AERIAL_PLOT, COMMON_DEFAULTS, CONTROL_DT, LAWS, add_derived,
+from ..sil.aerial_rig import (COMMON_DEFAULTS, CONTROL_DT, LAWS, add_derived,
                               diverged, reference_row, rig_from_settings)
 from . import JUDGED_WINDOW, ScenarioResult, evaluate
+from .plots import AERIAL_PLOT
 
 NAME = "aerial-attitude-step"
 DESCRIPTION = "10 deg roll step, both attitude laws: overshoot and steady-state error"

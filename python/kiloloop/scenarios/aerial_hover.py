@@ -6,9 +6,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..sil.aerial_rig import (AERIAL_PLOT, COMMON_DEFAULTS, add_derived, diverged, hold,
+from ..sil.aerial_rig import (COMMON_DEFAULTS, add_derived, diverged, hold,
                               hold_errors, rig_from_settings)
 from . import ScenarioResult, evaluate
+from .plots import AERIAL_PLOT
 
 NAME = "aerial-hover"
 DESCRIPTION = "multirotor (+ arm) hovers at 1 m; position and attitude error (noise on)"

@@ -8,9 +8,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..sil.aerial_rig import (AERIAL_PLOT, COMMON_DEFAULTS, Push, add_derived, diverged, hold,
+from ..sil.aerial_rig import (COMMON_DEFAULTS, Push, add_derived, diverged, hold,
                               rig_from_settings)
 from . import JUDGED_WINDOW, ScenarioResult, evaluate
+from .plots import AERIAL_PLOT
 
 NAME = "aerial-push"
 DESCRIPTION = "0.5 m/s sideways push at t = 1 s: peak deviation and recovery time"

@@ -10,9 +10,10 @@ import numpy as np
 import kiloloop as kl
 
 from ..errors import InputError
-from ..sil.aerial_rig import (AERIAL_PLOT, COMMON_DEFAULTS, CONTROL_DT, add_derived, diverged,
+from ..sil.aerial_rig import (COMMON_DEFAULTS, CONTROL_DT, add_derived, diverged,
                               reference_row, rig_from_settings)
 from . import JUDGED_WINDOW, ScenarioResult, evaluate
+from .plots import AERIAL_PLOT
 
 NAME = "aerial-reach"
 DESCRIPTION = "end effector tracks a straight line (quintic, slerp orientation) while hovering"

@@ -5,10 +5,11 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..sil.aerial_rig import (AERIAL_PLOT, COMMON_DEFAULTS, RotorFault, add_derived, diverged,
+from ..sil.aerial_rig import (COMMON_DEFAULTS, RotorFault, add_derived, diverged,
                               hold, rig_from_settings)
 from ..errors import InputError
 from . import JUDGED_WINDOW, ScenarioResult, evaluate
+from .plots import AERIAL_PLOT
 
 NAME = "aerial-rotor-fault"
 DESCRIPTION = "one rotor at 70 % efficiency from t = 1 s: stays airborne, within 10 cm"

@@ -15,9 +15,10 @@ from __future__ import annotations
 import numpy as np
 
 from ..sil import aerial_rig
-from ..sil.aerial_rig import (AERIAL_PLOT, COMMON_DEFAULTS, add_derived, diverged, hold,
+from ..sil.aerial_rig import (COMMON_DEFAULTS, add_derived, diverged, hold,
                               hold_errors, rig_from_settings)
 from . import ScenarioResult, evaluate
+from .plots import AERIAL_PLOT
 
 NAME = "aerial-wind"
 DESCRIPTION = "hover in 5 m/s wind with seeded gusts (drag model): position and attitude error"

@@ -22,6 +22,7 @@ from ..sil.arm_adapters import SupervisedTick
 from ..sil.arm_rig import ArmRig, controller, joint_targets, work_pose
 from ..sil.native import Observe
 from . import JUDGED_WINDOW, ScenarioResult, evaluate
+from .plots import ARM_ESTOP_PLOT
 
 NAME = "arm-estop"
 DESCRIPTION = "arm: e-stop during a fast motion -> controlled stop in bounded time/distance, hold"
@@ -135,7 +136,5 @@ def run(settings: dict, seed: int = 0, duration: float | None = None,
 
 
 def plot_signals():
-    return [("joint velocity", "qd_true", None, "rad/s"),
-            ("joint position", "q_true", "q_ref", "rad"),
-            ("supervisor mode (0 normal, 1 stopping, 2 holding)", "mode", None, "-"),
-            ("joint torque", "tau", None, "N m")]
+    """What `--plot` draws for this scenario (scenarios/plots.py)."""
+    return ARM_ESTOP_PLOT

@@ -20,6 +20,7 @@ from ..sil.arm_adapters import CartesianTick
 from ..sil.arm_rig import ArmRig, joint_config, line_target, work_pose
 from ..sil.native import Observe
 from . import ScenarioResult, evaluate
+from .plots import ARM_LINE_PLOT
 
 NAME = "arm-line"
 DESCRIPTION = "arm end effector on a Cartesian straight line + slerp (differential IK + computed torque)"
@@ -125,8 +126,5 @@ def run(settings: dict, seed: int = 0, duration: float | None = None,
 
 
 def plot_signals():
-    """What `--plot` draws for this scenario: (title, signal, reference or None, unit)."""
-    return [("end-effector position", "ee", "ee_ref", "m"),
-            ("end-effector position error", "ee_err_mm", None, "mm"),
-            ("end-effector orientation error", "ee_rot_err_mrad", None, "mrad"),
-            ("joint torque", "tau", None, "N m")]
+    """What `--plot` draws for this scenario (scenarios/plots.py)."""
+    return ARM_LINE_PLOT

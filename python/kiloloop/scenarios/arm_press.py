@@ -23,6 +23,7 @@ from ..sil.arm_adapters import PressTick
 from ..sil.arm_rig import ArmRig, line_feasible, work_pose
 from ..sil.log import SignalLog
 from . import JUDGED_WINDOW, ScenarioResult, evaluate
+from .plots import ARM_PRESS_PLOT
 
 NAME = "arm-press"
 DESCRIPTION = "arm presses a table with 10 N while sliding along x (hybrid force/position)"
@@ -224,6 +225,5 @@ def run(settings: dict, seed: int = 0, duration: float | None = None,
 
 
 def plot_signals():
-    return [("pressing force (MuJoCo sensor)", "force_z", None, "N"),
-            ("x error", "x_err_mm", None, "mm"),
-            ("joint torque", "tau", None, "N m")]
+    """What `--plot` draws for this scenario (scenarios/plots.py)."""
+    return ARM_PRESS_PLOT

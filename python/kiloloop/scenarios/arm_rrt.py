@@ -23,6 +23,7 @@ from ..sil.arm_adapters import JointTrackingTick
 from ..sil.arm_rig import ArmRig, controller, link_capsules, reach, work_pose
 from ..sil.log import SignalLog
 from . import ScenarioResult, evaluate
+from .plots import ARM_RRT_PLOT
 
 NAME = "arm-rrt"
 DESCRIPTION = "arm moves around a box: RRT-Connect + shortcut + trapezoid, no contact in MuJoCo"
@@ -221,6 +222,5 @@ def run(settings: dict, seed: int = 0, duration: float | None = None,
 
 
 def plot_signals():
-    return [("joint position", "q_true", "q_ref", "rad"),
-            ("distance links-box (MuJoCo)", "box_distance", None, "m"),
-            ("joint torque", "tau", None, "N m")]
+    """What `--plot` draws for this scenario (scenarios/plots.py)."""
+    return ARM_RRT_PLOT

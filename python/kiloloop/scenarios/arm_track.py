@@ -18,6 +18,7 @@ from ..sil.arm_adapters import JointTrackingTick
 from ..sil.arm_rig import ArmRig, controller, joint_targets, work_pose
 from ..sil.native import Observe
 from . import ScenarioResult, evaluate
+from .plots import ARM_TRACK_PLOT
 
 NAME = "arm-track"
 DESCRIPTION = "arm follows a quintic through two waypoints (computed torque; or PD + gravity)"
@@ -114,8 +115,5 @@ def run(settings: dict, seed: int = 0, duration: float | None = None,
 
 
 def plot_signals():
-    """What `--plot` draws for this scenario: (title, signal, reference or None, unit)."""
-    return [("joint position", "q_true", "q_ref", "rad"),
-            ("joint error q_ref - q", "q_err", None, "rad"),
-            ("joint torque", "tau", None, "N m"),
-            ("end-effector position error", "ee_err_mm", None, "mm")]
+    """What `--plot` draws for this scenario (scenarios/plots.py)."""
+    return ARM_TRACK_PLOT

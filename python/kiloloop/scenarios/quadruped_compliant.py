@@ -6,10 +6,11 @@ tracked, feet do not slide. A standing foot sinks m g / (4 k): 43 mm for the 17.
 from __future__ import annotations
 
 from ..sil import footholds
-from ..sil.quadruped_rig import COMMON_DEFAULTS, QUADRUPED_PLOT
+from ..sil.quadruped_rig import COMMON_DEFAULTS
 from ..sil.terrain import Compliant
 from ..sil.terrain_trot import SETTLED, run_trot
 from . import JUDGED_WINDOW, ScenarioResult, evaluate
+from .plots import QUADRUPED_PLOT
 
 NAME = "quadruped-compliant"
 DESCRIPTION = "trot 0.5 m/s on soft ground (1e3 N/m): no fall, roll/pitch, velocity, slip"

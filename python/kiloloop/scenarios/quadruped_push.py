@@ -5,9 +5,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..sil.quadruped_rig import (COMMON_DEFAULTS, QUADRUPED_PLOT, add_derived, fallen, push_event,
+from ..sil.quadruped_rig import (COMMON_DEFAULTS, add_derived, fallen, push_event,
                                  rig_from_settings, trot_command)
 from . import JUDGED_WINDOW, ScenarioResult, evaluate
+from .plots import QUADRUPED_PLOT
 
 NAME = "quadruped-push"
 DESCRIPTION = "lateral push while trotting: roll peak and recovery within 0.8 s"

@@ -4,10 +4,11 @@ feet do not slide. Sized from the robot: peak |height| a fraction of the swing h
 controller derives, bumps about one standing height long (body_height)."""
 from __future__ import annotations
 
-from ..sil.quadruped_rig import COMMON_DEFAULTS, QUADRUPED_PLOT
+from ..sil.quadruped_rig import COMMON_DEFAULTS
 from ..sil.terrain import Rough
 from ..sil.terrain_trot import SETTLED, run_trot
 from . import JUDGED_WINDOW, ScenarioResult, evaluate
+from .plots import QUADRUPED_PLOT
 
 NAME = "quadruped-rough"
 DESCRIPTION = "trot 0.5 m/s over a random heightfield: no fall, roll/pitch, velocity, slip"

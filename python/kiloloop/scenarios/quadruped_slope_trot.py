@@ -5,9 +5,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..sil.quadruped_rig import (COMMON_DEFAULTS, CommandSchedule, QUADRUPED_PLOT, add_derived,
+from ..sil.quadruped_rig import (COMMON_DEFAULTS, CommandSchedule, add_derived,
                                  fallen, fell_early, heading_velocity, rig_from_settings)
 from . import JUDGED_WINDOW, ScenarioResult, evaluate
+from .plots import QUADRUPED_PLOT
 
 NAME = "quadruped-slope-trot"
 DESCRIPTION = "trot up a 10 deg slope and back down at 0.5 m/s: no fall, roll/pitch, velocity"

@@ -5,9 +5,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..sil.quadruped_rig import (COMMON_DEFAULTS, QUADRUPED_PLOT, add_derived, fallen,
+from ..sil.quadruped_rig import (COMMON_DEFAULTS, add_derived, fallen,
                                  rig_from_settings, stand_command)
 from . import JUDGED_WINDOW, ScenarioResult, evaluate
+from .plots import QUADRUPED_PLOT
 
 NAME = "quadruped-stand"
 DESCRIPTION = "quadruped stands at its standing height; height error after 1 s (noise, delay on)"

@@ -5,10 +5,11 @@ The height spread is a fraction of the swing height the controller derives (0.16
 a step between neighbours is at most half the swing apex."""
 from __future__ import annotations
 
-from ..sil.quadruped_rig import COMMON_DEFAULTS, QUADRUPED_PLOT
+from ..sil.quadruped_rig import COMMON_DEFAULTS
 from ..sil.terrain import Stones
 from ..sil.terrain_trot import SETTLED, run_trot
 from . import JUDGED_WINDOW, ScenarioResult, evaluate
+from .plots import QUADRUPED_PLOT
 
 NAME = "quadruped-stones"
 DESCRIPTION = "trot 0.5 m/s over 0.3 m stepping stones at random heights: no fall, roll/pitch, velocity, slip"

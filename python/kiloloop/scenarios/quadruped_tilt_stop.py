@@ -4,9 +4,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..sil.quadruped_rig import (COMMON_DEFAULTS, QUADRUPED_PLOT, add_derived, push_event,
+from ..sil.quadruped_rig import (COMMON_DEFAULTS, add_derived, push_event,
                                  rig_from_settings, stand_command)
 from . import JUDGED_WINDOW, ScenarioResult, evaluate
+from .plots import QUADRUPED_PLOT
 
 NAME = "quadruped-tilt-stop"
 DESCRIPTION = "a shove tips the robot: safe stop within one tick of 15 deg tilt"

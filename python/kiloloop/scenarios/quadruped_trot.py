@@ -4,9 +4,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..sil.quadruped_rig import (COMMON_DEFAULTS, QUADRUPED_PLOT, add_derived, fell_early,
+from ..sil.quadruped_rig import (COMMON_DEFAULTS, add_derived, fell_early,
                                  rig_from_settings, trot_command, trot_metrics)
 from . import JUDGED_WINDOW, ScenarioResult, evaluate
+from .plots import QUADRUPED_PLOT
 
 NAME = "quadruped-trot"
 DESCRIPTION = "quadruped trots at 0.5 m/s for 20 s: no fall, roll/pitch RMS, velocity RMS error"

@@ -5,9 +5,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..sil.quadruped_rig import (COMMON_DEFAULTS, CommandSchedule, QUADRUPED_PLOT, add_derived,
+from ..sil.quadruped_rig import (COMMON_DEFAULTS, CommandSchedule, add_derived,
                                  fell_early, rig_from_settings, trot_metrics)
 from . import JUDGED_WINDOW, ScenarioResult, evaluate
+from .plots import QUADRUPED_PLOT
 
 NAME = "quadruped-turn"
 DESCRIPTION = "turning trot 0.5 m/s + 0.5 rad/s: no fall, yaw rate tracked, peak foot load per leg"

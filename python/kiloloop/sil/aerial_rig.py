@@ -167,11 +167,12 @@ class AerialRig:
         return out
 
     def native_rollout(self, duration: float, command, events=(), disturbance=None, data=None,
-                       adapter=None, seed: int | None = None, table=None):
+                       adapter=None, seed: int | None = None, table=None, stages=()):
         """A configured native Rollout of this rig (data: another MjData of plant.model for a
         batch, set to the state to start from; a RotorFault writes the model, so a concurrent
         rollout with one needs its own model and data; adapter: one built on another controller;
-        seed: another noise stream than the rig's)."""
+        seed: another noise stream than the rig's; stages: more C++ measurement stages after the
+        rig's own, a sensor dropout)."""
         native_loop.check()
         p, s = self.plant, self.signals
         ticks = native_loop.ticks_of(duration, CONTROL_DT)
@@ -185,7 +186,7 @@ class AerialRig:
             p.model, p.data if data is None else data, adapter, ticks=ticks,
             control_dt=CONTROL_DT, measurement=addr, measurement_source=source,
             actuators=[int(a) for a in p._rotor_act] + [int(a) for a in p._act],
-            sigma=s.sigma, quantum=s.quantum, seed=s.seed, stages=s.stages(),
+            sigma=s.sigma, quantum=s.quantum, seed=s.seed, stages=s.stages() + list(stages),
             motor_delay_ticks=s.motor_delay_ticks, motor_hold_first=True,
             events=self.native_events(events),
             disturbances=[disturbance.model(p)] if disturbance is not None else [],
@@ -428,13 +429,6 @@ def rig_from_settings(settings: dict, seed: int, config=None, robot=None) -> Aer
                                       native=bool(settings.get("native", True))),
                     seed=seed, robot=robot)
     return rig
-
-
-AERIAL_PLOT = [("body position", "base_pos", None, "m"),
-               ("attitude error (rotation vector)", "att_err_deg", None, "deg"),
-               ("rotor thrust", "thrust", None, "N"),
-               ("arm joints", "q", None, "rad"),
-               ("arm torque", "tau", None, "N m")]
 
 
 def add_derived(log) -> None:

@@ -14,6 +14,9 @@ Two levels:
     rollouts = [native.rollout(plant, tick.native_adapter(), 4.5, data=mujoco.MjData(plant.model))
                 for tick in ticks]
     batch.run(rollouts, threads=2)
+
+Each new MjData starts at the plant's state (native.start_state: a copy of plant.data), as the
+plant's own data would; the README's batch example runs in tests/test_doc_snippets.py.
 """
 from __future__ import annotations
 

@@ -187,21 +187,41 @@ def ticks_of(duration: float, control_dt: float = 0.001) -> int:
 
 def rollout(plant, adapter, duration: float, *, data=None, delay_ticks: int = 0,
             nonideal: NonIdeal | None = None, events=(), observe: Observe | None = None,
-            control_dt: float = 0.001):
+            control_dt: float = 0.001, stages=()):
     """A configured native Rollout of an arm-shaped plant (sil/plant.py MujocoPlant: y = [q; qd]
     from its joint sensors, u = its motors). data: another MjData of plant.model (a batch gives
-    each rollout its own); default the plant's own. Run it with .run() or batch.run()."""
+    each rollout its own); default the plant's own. A new `mujoco.MjData(plant.model)` starts
+    where the plant is (start_state); a data you set up yourself starts from its own state.
+    stages: C++ measurement stages after the sensor model (a sensor dropout). Run it with .run()
+    or batch.run()."""
     check()
     nonideal = nonideal or NonIdeal()
     sigma, quantum = nonideal.arrays(plant.nq)
     measurement = [int(a) for a in plant._pos_sens] + [int(a) for a in plant._vel_sens]
     return _native.Rollout(
-        plant.model, plant.data if data is None else data, adapter,
+        plant.model, start_state(plant, data), adapter,
         ticks=ticks_of(duration, control_dt), control_dt=control_dt, measurement=measurement,
         actuators=[int(a) for a in plant._act], delay_ticks=int(delay_ticks), sigma=sigma,
         quantum=quantum, seed=int(nonideal.seed), motor_delay_ticks=int(nonideal.motor_delay_ticks),
         motor_time_constant=float(nonideal.motor_time_constant), events=list(events),
-        probes=observe.probes(plant) if observe is not None else [])
+        probes=observe.probes(plant) if observe is not None else [], stages=list(stages))
+
+
+def start_state(plant, data=None):
+    """The MjData a rollout of `plant` steps, holding the state it starts from: the plant's own
+    data when `data` is None; `data` itself when it holds a state; and a new or reset `data`
+    (mujoco.MjData(plant.model), mj_resetData) filled with a copy of the plant's data first.
+
+    A new MjData is at the model's qpos0 with its sensors reading zero: not the plant's start pose
+    (an arm's qpos0 is its URDF zero) nor a state the loop can start from (its first tick reads
+    the sensors the caller's mj_forward left). It is recognised by its world
+    body's orientation, the zero quaternion until a kinematics pass (mj_forward, mj_kinematics,
+    a step) writes (1, 0, 0, 0), so a data you set and forwarded yourself is kept as it is."""
+    if data is None:
+        return plant.data
+    if data is not plant.data and data.xquat[0, 0] == 0.0:
+        mujoco.mj_copyData(data, plant.model, plant.data)
+    return data
 
 
 def signal_log(r, log: SignalLog | None = None) -> SignalLog:

@@ -13,6 +13,7 @@ joint velocity) and motor model (transport delay, saturation), so they give the 
 """
 from __future__ import annotations
 
+import bisect
 import math
 from dataclasses import dataclass, field
 from typing import Callable
@@ -71,12 +72,12 @@ class CommandSchedule:
             raise ValueError("CommandSchedule: the first segment must start at 0")
         if any(b[0] < a[0] for a, b in zip(self.segments, self.segments[1:])):
             raise ValueError("CommandSchedule: segments must be in time order")
+        self._starts = [t for t, _, _ in self.segments]
 
     def __call__(self, t: float) -> tuple[int, np.ndarray]:
-        current = self.segments[0]
-        for segment in self.segments[1:]:
-            if t >= segment[0]:
-                current = segment
+        # The last segment with start <= t (a bisection: a sampled ramp has a segment a tick).
+        k = bisect.bisect_right(self._starts, t) - 1
+        current = self.segments[max(k, 0)]
         return current[1], current[2]
 
     def reference_events(self) -> list[tuple]:
@@ -226,10 +227,11 @@ class QuadrupedRig:
                 ("foot_pos", native_loop._SITES_POS, [int(i) for i in p._foot_sites])]
 
     def native_rollout(self, duration: float, command: CommandSchedule, events=(), stop_when=None,
-                       data=None, adapter=None, seed: int | None = None):
+                       data=None, adapter=None, seed: int | None = None, stages=()):
         """A configured native Rollout of this rig (data: another MjData of plant.model for a
         batch, set to the state to start from; adapter: one built on another controller; seed:
-        another noise stream than the rig's)."""
+        another noise stream than the rig's; stages: more C++ measurement stages after the
+        rig's own, a sensor dropout)."""
         native_loop.check()
         p, s = self.plant, self.signals
         forces = [native_loop.force(t, p._base_id, [*a.force, 0.0, 0.0, 0.0], a.duration)
@@ -243,7 +245,7 @@ class QuadrupedRig:
             sigma=s.sigma, quantum=s.quantum, seed=s.seed if seed is None else int(seed),
             motor_delay_ticks=s.motor_delay_ticks, motor_limit=s.motor_limit,
             events=command.reference_events() + forces, probes=self.native_probes(), stop=stop,
-            stages=s.stages(seed))
+            stages=s.stages(seed) + list(stages))
 
     def measurement_addresses(self) -> list[int]:
         p, imu = self.plant, self.plant._imu_adr
@@ -403,13 +405,6 @@ def fallen(log, min_height: float = 0.15, max_tilt_deg: float = 45.0) -> bool:
     roll, pitch = roll_pitch(log["base_quat"])
     tilt = np.degrees(np.arccos(np.clip(np.cos(roll) * np.cos(pitch), -1, 1)))
     return bool(np.any(log["base_pos"][:, 2] < min_height) or np.any(tilt > max_tilt_deg))
-
-
-QUADRUPED_PLOT = [("trunk position", "base_pos", None, "m"),
-                  ("trunk velocity (world)", "base_vel", None, "m/s"),
-                  ("roll, pitch", "roll_pitch_deg", None, "deg"),
-                  ("ground reaction, vertical", "foot_fz", None, "N"),
-                  ("contact detected", "contact", None, "-")]
 
 
 def add_derived(log) -> None:
