@@ -33,7 +33,7 @@ def test_sweep_runs_in_parallel_and_survives_a_diverging_run(tmp_path, capsys):
 
 def test_a_run_that_raises_is_recorded_not_fatal():
     r = sweep.run_one("aerial-hover", {"law": "no_such_law"}, seed=0, duration=0.1)
-    assert not r["passed"] and r["reason"].startswith("error: ValueError")
+    assert not r["passed"] and r["reason"].startswith("error: InputError")
 
 
 def test_unknown_setting_is_a_usage_error(capsys):

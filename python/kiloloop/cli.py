@@ -1,9 +1,20 @@
-"""The `kiloloop` command: list scenarios, run one, run the benchmarks."""
+"""The `kiloloop` command: list scenarios, run one, run the benchmarks.
+
+Exit codes, every subcommand: 0 passed (or done), 1 a scenario's criteria failed (b2b: outputs
+differ), 2 a usage or input error (one line on stderr naming the option, key or file: an
+InputError from anywhere below, or an argparse error), 3 kiloloop itself failed (a bug: the
+traceback is printed).
+"""
 from __future__ import annotations
 
 import argparse
+import contextlib
 import json
 import sys
+import traceback
+import warnings
+
+from .errors import InputError, UnreadKeyWarning
 
 
 def _format_value(v) -> str:
@@ -37,30 +48,28 @@ def cmd_list(_args) -> int:
 
 def cmd_run(args) -> int:
     from . import scenarios
-    from .scenarios.scenario_file import ScenarioFileError
 
-    try:
-        module = scenarios.get(args.scenario)
-        robot, settings = scenarios.prepare(module, args.robot, args.set)
-    except (KeyError, ValueError) as e:
-        print(f"kiloloop run: {e.args[0]}", file=sys.stderr)
-        return 2
+    module = scenarios.get(args.scenario)   # a built-in scenario, or a scenario file as one
+    robot, settings = scenarios.prepare(module, args.robot, args.set)
+    duration = scenarios.check_duration(args.duration, module, settings, robot)
     if args.video:
         settings["video"] = args.video
-    try:
-        result = scenarios.run(module, settings, robot, seed=args.seed, duration=args.duration)
-        if args.baseline:
-            from .scenarios.scenario_file import baseline
+    result = scenarios.run(module, settings, robot, seed=args.seed, duration=duration)
+    if args.baseline:
+        from .scenarios.scenario_file import baseline
 
-            result.criteria["baseline"] = baseline.compare(
-                result.log, args.baseline, {}, getattr(result, "components", None))
-    except ScenarioFileError as e:
-        print(f"kiloloop run: {e}", file=sys.stderr)
-        return 2
+        result.criteria["baseline"] = baseline.compare(
+            result.log, args.baseline, {}, getattr(result, "components", None))
     if args.save_baseline:
         from .scenarios.scenario_file import baseline
 
         baseline.save(result.log, args.save_baseline, result.log.names())
+    _report(args, module, result, settings)
+    return 0 if result.passed else 1
+
+
+def _report(args, module, result, settings) -> None:
+    """What `kiloloop run` writes after a run: --log, --plot, then --json or the summary."""
     if args.log:
         result.log.save(args.log)
     if args.plot:
@@ -81,22 +90,17 @@ def cmd_run(args) -> int:
                             ("baseline", args.save_baseline)):
             if path:
                 print(f"  {label}: {path}")
-    return 0 if result.passed else 1
 
 
 def cmd_sweep(args) -> int:
     from . import sweep
 
-    try:
-        grid = sweep.parse_grid(args.grid)
-        if not grid:
-            raise ValueError("give at least one --grid KEY=V1,V2,...")
-        results = sweep.run_sweep(args.scenario, grid, workers=args.workers, seed=args.seed,
-                                  duration=args.duration, robot=args.robot, sets=args.set,
-                                  backend=args.backend)
-    except (KeyError, ValueError) as e:
-        print(f"kiloloop sweep: {e.args[0]}", file=sys.stderr)
-        return 2
+    grid = sweep.parse_grid(args.grid)
+    if not grid:
+        raise InputError("give at least one --grid KEY=V1,V2,...")
+    results = sweep.run_sweep(args.scenario, grid, workers=args.workers, seed=args.seed,
+                              duration=args.duration, robot=args.robot, sets=args.set,
+                              backend=args.backend)
     metric = args.metric or sweep.default_metric(results)
     out = args.out or f"sweep-{args.scenario}"
     csv_path = sweep.write_csv(results, f"{out}.csv")
@@ -144,10 +148,10 @@ def cmd_robot_check(args) -> int:
 
 def _robot_sets(items) -> dict:
     """--set KEY=VALUE items as a dict (scenarios.prepare splits robot-file and scenario keys)."""
-    for item in items:
-        if "=" not in item:
-            raise ValueError(f"--set {item!r}: expected KEY=VALUE")
-    return dict(item.split("=", 1) for item in items)
+    from .scenarios import split_overrides
+
+    robot_sets, scenario_sets = split_overrides(items)
+    return {**robot_sets, **scenario_sets}
 
 
 def cmd_export(args) -> int:
@@ -156,14 +160,10 @@ def cmd_export(args) -> int:
     from .firmware.recording import record_sil_run
     from .robot import Robot
 
-    try:
-        robot = Robot.load(args.robot)
-        family = family_of(robot)
-        # The controller exactly as the family's scenario configures it (a few ticks suffice).
-        rec = record_sil_run(robot, family, duration=0.01, sets=_robot_sets(args.set))
-    except (KeyError, ValueError) as e:
-        print(f"kiloloop export: {e.args[0]}", file=sys.stderr)
-        return 2
+    robot = Robot.load(args.robot)
+    family = family_of(robot)
+    # The controller exactly as the family's scenario configures it (a few ticks suffice).
+    rec = record_sil_run(robot, family, duration=0.01, sets=_robot_sets(args.set))
     header = write_export(robot, family, rec.controller.model, rec.controller.config, args.out,
                           {"scenario": family.scenario})
     print(f"exported {robot.name} ({family.name}, {family.controller}): {header}, "
@@ -174,25 +174,95 @@ def cmd_export(args) -> int:
 def cmd_b2b(args) -> int:
     from .firmware.b2b import run_b2b
     from .firmware.build import BuildError
+    from .scenarios import check_duration
 
+    # Bits are compared, not metrics: any duration > 0 will do (no scenario minimum).
+    duration = check_duration(args.duration)
     try:
-        result = run_b2b(args.robot, duration=args.duration, seed=args.seed,
+        result = run_b2b(args.robot, duration=duration, seed=args.seed,
                          sets=_robot_sets(args.set), work=args.work, scenario=args.scenario)
-    except (KeyError, ValueError, BuildError) as e:
+    except BuildError as e:  # no compiler, a failed build: the environment, not the input
         print(f"kiloloop b2b: {e.args[0]}", file=sys.stderr)
         return 2
     return 0 if result.identical and result.model_identical else 1
 
 
+class _Parser(argparse.ArgumentParser):
+    """argparse with its usage errors as InputError: one line, exit 2, like every input error
+    (argparse's own prints the usage too)."""
+
+    def error(self, message):
+        raise InputError(f"{self.prog}: {message} (see {self.prog} --help)")
+
+
+def _seed(text: str) -> int:
+    """--seed: a whole number 0 .. 2^32 - 1 (numpy's generators refuse negative seeds)."""
+    try:
+        seed = int(text)
+    except ValueError:
+        seed = -1
+    if not 0 <= seed < 2 ** 32:
+        raise argparse.ArgumentTypeError(f"expected a whole number from 0 to {2 ** 32 - 1}, "
+                                         f"got {text!r}")
+    return seed
+
+
+def _first_line(e: BaseException) -> str:
+    text = str(e).strip()
+    return text.splitlines()[0] if text else type(e).__name__
+
+
+@contextlib.contextmanager
+def _warnings_as_lines(prog: str):
+    """kiloloop's own warnings (UnreadKeyWarning) as one line `PROG: warning: ...` on stderr;
+    any other warning as Python shows it."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("always", UnreadKeyWarning)  # each run says it, not once a process
+        show = warnings.showwarning
+
+        def one_line(message, category, filename, lineno, file=None, line=None):
+            if issubclass(category, UnreadKeyWarning):
+                print(f"{prog}: warning: {message}", file=sys.stderr)
+            else:
+                show(message, category, filename, lineno, file, line)
+
+        warnings.showwarning = one_line
+        yield
+
+
 def main(argv=None) -> int:
-    parser = argparse.ArgumentParser(prog="kiloloop", description=__doc__)
+    """Runs one subcommand; returns its exit code (module doc). Input errors raised anywhere
+    below become one line and 2 here, for every subcommand; anything else is a bug: 3, with
+    its traceback."""
+    try:
+        args = _build_parser().parse_args(argv)
+    except InputError as e:  # the message names the (sub)command
+        print(_first_line(e), file=sys.stderr)
+        return 2
+    prog = f"kiloloop {args.command}"
+    try:
+        with _warnings_as_lines(prog):
+            return args.func(args)
+    except InputError as e:
+        print(f"{prog}: {_first_line(e)}", file=sys.stderr)
+        return 2
+    except Exception:  # noqa: BLE001 - not the user's doing: keep the traceback, not exit 1
+        traceback.print_exc()
+        print(f"{prog}: internal error (a bug in kiloloop; the traceback above says where)",
+              file=sys.stderr)
+        return 3
+
+
+def _build_parser() -> argparse.ArgumentParser:
+    parser = _Parser(prog="kiloloop", description=__doc__,
+                     formatter_class=argparse.RawDescriptionHelpFormatter)
     sub = parser.add_subparsers(dest="command", required=True)
     sub.add_parser("list", help="list the SIL scenarios").set_defaults(func=cmd_list)
     run = sub.add_parser("run", help="run one SIL scenario")
     run.add_argument("scenario", metavar="SCENARIO|FILE.toml",
                      help="a built-in scenario (kiloloop list) or a scenario file (docs/scenarios.md)")
     run.add_argument("--duration", type=float, default=None, help="simulated time [s]")
-    run.add_argument("--seed", type=int, default=None,
+    run.add_argument("--seed", type=_seed, default=None,
                      help="seed for noise and randomness (default: the file's, else 0)")
     run.add_argument("--robot", default=None, metavar="NAME|FILE",
                      help="robot name in models/ or a robot file (default: the scenario's own)")
@@ -219,7 +289,7 @@ def main(argv=None) -> int:
     sweep.add_argument("--out", default=None, metavar="PREFIX",
                        help="writes PREFIX.csv and PREFIX.png (default: sweep-SCENARIO)")
     sweep.add_argument("--duration", type=float, default=None, help="simulated time per run [s]")
-    sweep.add_argument("--seed", type=int, default=0)
+    sweep.add_argument("--seed", type=_seed, default=0)
     sweep.add_argument("--robot", default=None, metavar="NAME|FILE")
     sweep.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",
                        help="fixed overrides for every run (as in `kiloloop run`)")
@@ -254,7 +324,7 @@ def main(argv=None) -> int:
     b2b.add_argument("robot", metavar="NAME|FILE")
     b2b.add_argument("--duration", type=float, default=None,
                      help="simulated time [s] (default: the scenario file's, else 1)")
-    b2b.add_argument("--seed", type=int, default=None,
+    b2b.add_argument("--seed", type=_seed, default=None,
                      help="default: the scenario file's, else 0")
     b2b.add_argument("--scenario", default=None, metavar="FILE.toml",
                      help="record the SIL run of this scenario file (default: the family's "
@@ -263,8 +333,7 @@ def main(argv=None) -> int:
     b2b.add_argument("--work", default=None, metavar="DIR",
                      help="build directory (default: build/firmware of the source tree)")
     b2b.set_defaults(func=cmd_b2b)
-    args = parser.parse_args(argv)
-    return args.func(args)
+    return parser
 
 
 if __name__ == "__main__":

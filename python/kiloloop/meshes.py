@@ -23,6 +23,8 @@ from urllib.parse import unquote
 
 import numpy as np
 
+from .errors import InputError
+
 __all__ = ["resolve_uri", "load_mesh", "fit_capsule", "fit_box", "capsules_for_urdf", "mesh_collisions"]
 
 
@@ -35,14 +37,14 @@ def resolve_uri(uri: str, urdf_dir: str | Path | None = None, package_dirs: Iter
         rest = uri[len("package://"):]
         name, _, sub = rest.partition("/")
         if not name or not sub:
-            raise ValueError(f"mesh URI '{uri}': expected package://NAME/path")
+            raise InputError(f"mesh URI '{uri}': expected package://NAME/path")
         dirs = [Path(d) for d in package_dirs]
         for d in dirs:
             candidate = d / name / sub
             if candidate.is_file():
                 return candidate
         searched = ", ".join(f"'{d}'" for d in dirs) if dirs else "none (package_dirs is empty)"
-        raise ValueError(f"mesh URI '{uri}': package '{name}' not found (no {name}/{sub} in package_dirs: "
+        raise InputError(f"mesh URI '{uri}': package '{name}' not found (no {name}/{sub} in package_dirs: "
                          f"{searched})")
     if uri.startswith("file://"):
         path = Path(unquote(uri[len("file://"):]))
@@ -51,7 +53,7 @@ def resolve_uri(uri: str, urdf_dir: str | Path | None = None, package_dirs: Iter
     if not path.is_absolute():
         path = base / path
     if not path.is_file():
-        raise ValueError(f"mesh URI '{uri}': file '{path}' not found")
+        raise InputError(f"mesh URI '{uri}': file '{path}' not found")
     return path
 
 
@@ -64,7 +66,7 @@ def load_mesh(path: str | Path, scale: float | Sequence[float] = 1.0):
     path = Path(path)
     loaded = trimesh.load(str(path), force="mesh", process=False)
     if not isinstance(loaded, trimesh.Trimesh) or len(loaded.vertices) == 0:
-        raise ValueError(f"mesh '{path}': no triangles could be read")
+        raise InputError(f"mesh '{path}': no triangles could be read")
     mesh = loaded.copy()
     factor = np.ones(3) * _collada_unit(path)
     factor = factor * np.broadcast_to(np.asarray(scale, dtype=float), (3,))
@@ -168,7 +170,7 @@ def _read_urdf(urdf_path_or_xml, urdf_dir):
         return ET.fromstring(text), Path(urdf_dir) if urdf_dir is not None else Path.cwd()
     path = Path(text)
     if not path.is_file():
-        raise ValueError(f"URDF file '{path}' not found")
+        raise InputError(f"URDF file '{path}' not found")
     return ET.parse(path).getroot(), Path(urdf_dir) if urdf_dir is not None else path.parent
 
 

@@ -27,20 +27,23 @@ from pathlib import Path
 
 from . import scenarios
 from .sil.batch import native_capable, run_one, run_scenarios  # noqa: F401  (sweep.run_one)
+from .sil.batch import overrides_of as _overrides
 
 
 def parse_grid(items: list[str]) -> dict[str, list[str]]:
     """["k=v1,v2", ...] -> {"k": ["v1", "v2"]} (values stay strings: the scenario converts them)."""
+    from .errors import InputError
+
     grid: dict[str, list[str]] = {}
     for item in items:
         if "=" not in item:
-            raise ValueError(f"--grid {item!r}: expected KEY=V1,V2,...")
+            raise InputError(f"--grid {item!r}: expected KEY=V1,V2,...")
         key, values = item.split("=", 1)
         vals = [v for v in values.split(",") if v != ""]
         if not key or not vals:
-            raise ValueError(f"--grid {item!r}: expected KEY=V1,V2,...")
+            raise InputError(f"--grid {item!r}: expected KEY=V1,V2,...")
         if key in grid:
-            raise ValueError(f"--grid {key!r} given twice")
+            raise InputError(f"--grid {key!r} given twice")
         grid[key] = vals
     return grid
 
@@ -69,16 +72,23 @@ def run_sweep(scenario: str, grid: dict[str, list[str]], workers: int | None = N
     Ray; results in grid order. A worker that dies takes only its own run with it. Grid keys are
     scenario settings or dotted robot-file keys (controller.kp); robot and sets as in
     `kiloloop run`."""
+    from .errors import InputError
+
     if backend not in BACKENDS:
-        raise ValueError(f"--backend {backend!r}: expected one of {', '.join(BACKENDS)}")
+        raise InputError(f"--backend {backend!r}: expected one of {', '.join(BACKENDS)}")
     stream = sys.stderr if stream is None else stream  # looked up now: tests swap sys.stderr
     module = scenarios.get(scenario)  # unknown scenario: KeyError before any process starts
-    # Every grid value checked here (unknown key, bad robot file) before any process starts.
-    for point in combinations(grid)[:1] + [{}]:
-        overrides = dict(item.split("=", 1) for item in (sets or []))
-        overrides.update(point)
-        scenarios.prepare(module, robot, overrides)
     combos = combinations(grid)
+    # Checked here before any process starts: the robot file and the fixed --set once, every
+    # grid value's conversion and list length, and the duration against each point's minimum.
+    first = combos[0] if combos else {}
+    robot_obj, base = scenarios.prepare(module, robot, _overrides(sets, first))
+    for point in combos:
+        robot_sets, scenario_sets = scenarios.split_overrides(point)
+        point_robot = robot_obj.with_overrides(robot_sets) if robot_sets else robot_obj
+        settings = scenarios.parse_settings(base, scenario_sets)
+        scenarios.check_settings(module, settings, scenarios.check_robot_sizes(point_robot))
+        scenarios.check_duration(duration, module, settings, point_robot)
     workers = max(1, int(workers or os.cpu_count() or 1))
     if backend == "ray":
         return _run_ray(scenario, combos, workers, seed, duration, robot, sets, stream)
@@ -119,7 +129,7 @@ def _run_ray(scenario, combos, workers, seed, duration, robot, sets, stream) -> 
     try:
         import ray
     except ImportError:
-        raise ValueError("--backend ray needs Ray: pip install 'kiloloop[ray]'") from None
+        raise InputError("--backend ray needs Ray: pip install 'kiloloop[ray]'") from None
     started = False
     if not ray.is_initialized():
         address = os.environ.get("RAY_ADDRESS")

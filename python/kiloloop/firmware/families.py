@@ -5,6 +5,8 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
+from ..errors import InputError
+
 
 @dataclass(frozen=True)
 class Family:
@@ -29,5 +31,5 @@ FAMILIES = {
 
 def family_of(robot) -> Family:
     if robot.kind not in FAMILIES:
-        raise ValueError(f"{robot.path}: kind {robot.kind!r} has no firmware family")
+        raise InputError(f"{robot.path}: kind {robot.kind!r} has no firmware family")
     return FAMILIES[robot.kind]

@@ -96,12 +96,32 @@ def time_constant(robot) -> float:
     return tau if tau > 0 else DEFAULT_TIME_CONSTANT
 
 
+# What each [controller] key takes (schema.bad_values templates): true/false, a number, or (arm
+# gains and pose) one number or one per arm joint.
+_BOOLEAN = ("reaction_feedforward", "hold_com", "measured_acceleration", "lag_compensation")
+_PER_JOINT = ("arm_kp", "arm_kd", "arm_q_nominal")
+
+
+def _controller_template() -> dict:
+    from .schema import NUMBERS
+
+    return {k: True if k in _BOOLEAN else NUMBERS if k in _PER_JOINT else 0.0
+            for k in CONTROLLER_KEYS}
+
+
 def controller_settings(robot) -> dict:
+    from .robot_file import RobotFileError
+    from .schema import bad_values
+
     c = robot.section("controller")
     for key in c:
         if key not in CONTROLLER_KEYS:
             raise _err(robot, f"unknown key 'controller.{key}'; known: "
                               f"{', '.join(sorted(CONTROLLER_KEYS))}")
+    bad = bad_values(c, _controller_template(), "controller.")
+    if bad:
+        key = bad[0].split(":", 1)[0]
+        raise RobotFileError(f"{robot.where(key)}:{bad[0].split(':', 1)[1]}")
     return c
 
 

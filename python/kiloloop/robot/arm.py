@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .schema import FREE, schema_for
+from .schema import FREE, NUMBERS, schema_for
 
 # Fraction of a joint's range kept free at each end when the start pose is moved inside it.
 LIMIT_MARGIN = 0.05
@@ -42,10 +42,27 @@ def start_pose(robot, model) -> np.ndarray:
     q0 = robot.section("sim").get("joints", {}).get("q0")
     if q0 is None:
         q0 = robot.section("chain").get("q0")
-    q = np.zeros(model.nq) if q0 is None else np.asarray(q0, dtype=float)
-    if q.shape != (model.nq,):
-        raise ValueError(f"{robot.path}: q0 has {q.size} values, the chain has {model.nq} joints")
-    return q if q0 is not None else clip_inside(model, q)
+    if q0 is None:
+        return clip_inside(model, np.zeros(model.nq))
+    key = "sim.joints.q0" if robot.section("sim").get("joints", {}).get("q0") is not None \
+        else "chain.q0"
+    return per_joint(robot, key, q0, model.nq, scalar=False)
+
+
+def per_joint(robot, key: str, value, nq: int, scalar: bool = True) -> np.ndarray:
+    """(nq,) floats from a robot-file value given per joint (or, when `scalar`, as one number
+    for every joint); any other count is an error naming the key, the expected and the given
+    count (the schema has already checked that the values are numbers)."""
+    from .robot_file import RobotFileError
+
+    arr = np.atleast_1d(np.asarray(value, dtype=float))
+    if arr.shape == (1,) and scalar:
+        return np.full(nq, float(arr[0]))
+    if arr.shape != (nq,):
+        expected = f"1 or {nq}" if scalar else f"{nq}"
+        raise RobotFileError(f"{robot.where(key)}: expected {expected} values (the chain has {nq} "
+                             f"joints), got {arr.size}")
+    return arr
 
 
 def joint_range(model, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -59,7 +76,8 @@ def joint_range(model, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 
 
 def controller_settings(robot) -> dict:
-    out = {k: v for k, v in schema_for("arm")["controller"].items() if v is not FREE}
+    out = {k: v for k, v in schema_for("arm")["controller"].items()
+           if v is not FREE and v is not NUMBERS}
     out.update(robot.section("controller"))
     return out
 
@@ -78,9 +96,9 @@ def joint_gains(robot, model, law: str, q: np.ndarray, dynamics=None):
         m = np.diag(dyn.mass_matrix(q))
         kp, kd = m * w * w, m * 2.0 * zeta * w
     if "kp" in c:
-        kp = np.broadcast_to(np.asarray(c["kp"], dtype=float), (model.nq,)).copy()
+        kp = per_joint(robot, "controller.kp", c["kp"], model.nq)
     if "kd" in c:
-        kd = np.broadcast_to(np.asarray(c["kd"], dtype=float), (model.nq,)).copy()
+        kd = per_joint(robot, "controller.kd", c["kd"], model.nq)
     return kp, kd
 
 
@@ -111,8 +129,22 @@ def joint_friction(robot, model):
     viscous = np.array([urdf.get(n, (0.0, 0.0))[0] for n in model.joint_names])
     coulomb = np.array([urdf.get(n, (0.0, 0.0))[1] for n in model.joint_names])
     if "viscous_friction" in c:
-        viscous = np.broadcast_to(np.asarray(c["viscous_friction"], float), (model.nq,)).copy()
+        viscous = per_joint(robot, "controller.viscous_friction", c["viscous_friction"], model.nq)
     if "coulomb_friction" in c:
-        coulomb = np.broadcast_to(np.asarray(c["coulomb_friction"], float), (model.nq,)).copy()
+        coulomb = per_joint(robot, "controller.coulomb_friction", c["coulomb_friction"], model.nq)
     f.viscous, f.coulomb = viscous, coulomb
     return f
+
+
+# [controller] keys given per joint (or one number for every joint).
+PER_JOINT_KEYS = ("kp", "kd", "viscous_friction", "coulomb_friction")
+
+
+def check_sizes(robot, model) -> None:
+    """Every per-joint value of the file (the start pose, [controller] gains and friction) has a
+    count the chain takes: refused at load, not when (or if) a scenario reads it."""
+    start_pose(robot, model)
+    c = robot.section("controller")
+    for key in PER_JOINT_KEYS:
+        if key in c:
+            per_joint(robot, f"controller.{key}", c[key], model.nq)

@@ -55,23 +55,41 @@ def foot_contact(robot) -> tuple[np.ndarray, float]:
 
 
 def _assign(obj, key: str, value, where: str) -> None:
+    """obj.key = value converted to the field's type; `where` prefixes an error (the file or
+    --set, and the key's table). A list field takes one number for every entry or one per entry
+    (a per-joint field: 12 on a 12-joint robot)."""
     from .. import _core
+    from .robot_file import RobotFileError
 
     if not hasattr(obj, key):
-        raise ValueError(f"{where}{key}: not a controller setting")
+        raise RobotFileError(f"{where}{key}: not a controller setting")
     current = getattr(obj, key)
     if key == "knees":
         values = value if isinstance(value, list) else [value] * 4
         try:
             value = [getattr(_core.KneeDirection, _KNEES[str(v).lower()]) for v in values]
         except KeyError:
-            raise ValueError(f"{where}knees: expected auto, backward or forward") from None
+            raise RobotFileError(f"{where}knees: expected auto, backward or forward") from None
     elif isinstance(current, np.ndarray):
-        value = np.broadcast_to(np.asarray(value, dtype=float), current.shape).copy()
+        count = current.size if current.ndim == 1 else "x".join(map(str, current.shape))
+        try:
+            if isinstance(value, (str, bool)) or (isinstance(value, list) and any(
+                    isinstance(v, (str, bool)) for v in value)):
+                raise TypeError
+            value = np.broadcast_to(np.asarray(value, dtype=float), current.shape).copy()
+        except (TypeError, ValueError):
+            given = f"{len(value)} values" if isinstance(value, list) else repr(value)
+            raise RobotFileError(f"{where}{key}: expected 1 or {count} numbers, got "
+                                 f"{given}") from None
     elif isinstance(current, bool):
-        value = bool(value)
-    elif isinstance(current, float):
-        value = float(value)
+        if not isinstance(value, bool):
+            raise RobotFileError(f"{where}{key}: expected true or false, got {value!r}")
+    elif isinstance(current, (int, float)):
+        if isinstance(value, bool) or not isinstance(value, (int, float)) or (
+                isinstance(current, int) and value != int(value)):
+            kind = "a whole number" if isinstance(current, int) else "a number"
+            raise RobotFileError(f"{where}{key}: expected {kind}, got {value!r}")
+        value = type(current)(value)
     setattr(obj, key, value)
 
 
@@ -80,6 +98,7 @@ def controller_config(robot, actuation_delay: float | None = None):
     radius) from the URDF, the declared actuation delay, then the file's [controller] table
     (which wins)."""
     from .. import _core
+    from .robot_file import RobotFileError
 
     config = _core.QuadrupedConfig()
     legs = robot.section("legs")
@@ -87,8 +106,8 @@ def controller_config(robot, actuation_delay: float | None = None):
         config.trunk_link = legs["base"]
     if legs.get("feet"):
         if len(legs["feet"]) != 4:
-            raise ValueError(f"{robot.path}: legs.feet: expected 4 links (FL, FR, RL, RR), got "
-                             f"{len(legs['feet'])}")
+            raise RobotFileError(f"{robot.path}: legs.feet: expected 4 links (FL, FR, RL, RR), "
+                                 f"got {len(legs['feet'])}")
         config.feet = list(legs["feet"])
     config.foot_offset, config.foot_radius = foot_contact(robot)
     if actuation_delay is not None:
@@ -97,12 +116,21 @@ def controller_config(robot, actuation_delay: float | None = None):
         if key in _NESTED and isinstance(value, dict):
             sub = getattr(config, key)
             for k, v in value.items():
-                _assign(sub, k, v, f"controller.{key}.")
+                _assign(sub, k, v, _where(robot, f"controller.{key}.{k}"))
             setattr(config, key, sub)
         else:
-            _assign(config, key, value, "controller.")
-    config.validate()
+            _assign(config, key, value, _where(robot, f"controller.{key}"))
+    try:
+        config.validate()
+    except ValueError as e:  # the C++ check of the values: the file (or a --set) gave them
+        raise RobotFileError(f"{robot.path}{' (with --set)' if robot.overrides else ''}: "
+                             f"{str(e).strip().splitlines()[0]}") from None
     return config
+
+
+def _where(robot, dotted: str) -> str:
+    """The prefix _assign's errors take: `--set controller.` or `FILE: controller.`."""
+    return robot.where(dotted)[: -len(dotted.rsplit(".", 1)[-1])]
 
 
 def plant_overlay(robot, controller) -> dict:

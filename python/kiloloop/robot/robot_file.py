@@ -14,6 +14,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Callable
 
+from ..errors import InputError
 from . import schema
 from .aerial import model as aerial_model
 from .errors import RobotFileError
@@ -29,6 +30,7 @@ def register_table_check(table: str, check: Callable[[object, str], None]) -> No
     """Makes every later load and --set of a robot file call check(file[table], where) when the
     file has that table."""
     _TABLE_CHECKS[table] = check
+
 
 
 def _models_dir() -> Path:
@@ -61,11 +63,24 @@ def resolve_robot_path(name_or_path) -> Path:
 
 
 def parse_value(text: str):
-    """A --set value as TOML would read it (1, 2.5, true, [1, 2], "s"); a bare word stays a str."""
+    """A --set value as TOML would read it (1, 2.5, true, [1, 2], "s"); a list may also be given
+    bare, `0.1,-0.2` as `[0.1, -0.2]` (what a shell user types; both forms work for every key),
+    and numbers as Python writes them (`.5`, `1.`, which TOML refuses); anything else (a bare
+    word) stays a str, for the reader to accept or refuse."""
+    for form in (f"v = {text}", f"v = [{text}]" if "," in text else None):
+        if form is None:
+            continue
+        try:
+            return tomllib.loads(form)["v"]
+        except tomllib.TOMLDecodeError:
+            pass
+    bare = text.strip()
+    is_list = "," in bare or bare.startswith("[")
     try:
-        return tomllib.loads(f"v = {text}")["v"]
-    except tomllib.TOMLDecodeError:
+        numbers = [float(v) for v in bare.strip("[]").split(",")] if bare.strip("[] ") else []
+    except ValueError:
         return text
+    return numbers if is_list else (numbers[0] if numbers else text)
 
 
 def _set_dotted(data: dict, dotted: str, value) -> None:
@@ -110,6 +125,11 @@ class Robot:
         robot = Robot(path=self.path, data=data, overrides=applied)
         robot._validate(source="--set")
         return robot
+
+    def where(self, key: str) -> str:
+        """Where a dotted key's value came from, for an error message: `--set KEY` when a --set
+        gave it, else `FILE: KEY`."""
+        return f"--set {key}" if key in self.overrides else f"{self.path}: {key}"
 
     def _validate(self, source: str | None = None) -> None:
         where = f"{self.path}" + (f" (with {source})" if source else "")

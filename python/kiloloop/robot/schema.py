@@ -14,6 +14,9 @@ from . import sim_defaults
 from .quadruped import controller_schema
 
 FREE = object()  # any value (a table of user-chosen names, or a value checked elsewhere)
+# A number or a list of numbers, no default (per-joint values: their count is the reader's check,
+# against the robot's joints).
+NUMBERS = object()
 
 KINDS = ("arm", "quadruped", "aerial")
 
@@ -31,17 +34,17 @@ def _arm() -> dict:
     return {
         # The controlled chain; joints off it (grippers, mimic joints) are locked at `locked`
         # (joint name -> [rad] or [m], default 0) and their links folded in as rigid mass.
-        "chain": {"root": "", "tip": "", "locked": FREE, "q0": FREE},
+        "chain": {"root": "", "tip": "", "locked": FREE, "q0": NUMBERS},
         "controller": {
             "bandwidth": 30.0,       # [rad/s] joint error bandwidth (computed torque omega_n)
             "damping_ratio": 1.0,    # [-]
-            "kp": FREE, "kd": FREE,  # explicit per-joint (or scalar) gains override the above
+            "kp": NUMBERS, "kd": NUMBERS,  # explicit per-joint (or scalar) gains override the above
             "max_measurement_age": 0.005,  # [s]
             # Joint friction the controllers compensate; default: the URDF's <dynamics damping
             # friction> of the chain joints (scalar or one per joint).
             "friction_compensation": True,
-            "viscous_friction": FREE,      # [N m s/rad]
-            "coulomb_friction": FREE,      # [N m]
+            "viscous_friction": NUMBERS,   # [N m s/rad]
+            "coulomb_friction": NUMBERS,   # [N m]
             "friction_smoothing_speed": 0.01,  # [rad/s]
         },
         "sim": _sim("arm"),
@@ -87,7 +90,7 @@ def unknown_keys(data: dict, template: dict, prefix: str = "") -> list[str]:
             bad.append(path)
             continue
         sub = template[key]
-        if sub is FREE:
+        if sub is FREE or sub is NUMBERS:
             continue
         if isinstance(sub, dict):
             if not isinstance(value, dict):
@@ -114,13 +117,13 @@ def bad_values(data: dict, template: dict, prefix: str = "") -> list[str]:
             continue
         if sub is FREE or isinstance(sub, dict) or sub is None:
             continue
-        if isinstance(sub, bool):
-            if not isinstance(value, bool):
-                bad.append(f"{path}: expected true or false, got {value!r}")
-        elif isinstance(sub, (int, float)):
+        if sub is NUMBERS or (isinstance(sub, (int, float)) and not isinstance(sub, bool)):
             items = value if isinstance(value, list) else [value]
             if not items or not all(_number(v) for v in items):
                 bad.append(f"{path}: expected a number (or a list of numbers), got {value!r}")
+        elif isinstance(sub, bool):
+            if not isinstance(value, bool):
+                bad.append(f"{path}: expected true or false, got {value!r}")
         elif isinstance(sub, str) and not isinstance(value, str):
             bad.append(f"{path}: expected a string, got {value!r}")
     return bad

@@ -27,7 +27,8 @@ import kiloloop as kl
 from ..sil.aerial_rig import (COMMON_DEFAULTS, CONTROL_DT, REFERENCE_WIDTH,
                               add_derived, diverged, reference_row, rig_from_settings,
                               rotation_vector_error)
-from . import ScenarioResult, evaluate
+from ..errors import InputError
+from . import JUDGED_WINDOW, ScenarioResult, evaluate
 from .plots import AERIAL_ARM_SWEEP_PLOT
 
 NAME = "aerial-arm-sweep"
@@ -35,8 +36,15 @@ DESCRIPTION = "hover while the arm sweeps; attitude error p-p with vs without re
 DURATION = 5.0
 DEFAULTS = dict(COMMON_DEFAULTS, amplitude=1.5, elbow_ratio=0.0, period=4.0, start=0.5, cycles=1,
                 sweep_joint=1)
+# Settings' valid ranges (scenarios/__init__.py): a zero time or scale means nothing.
+LIMITS = {"period": (">", 0.0), "cycles": (">=", 1), "start": (">=", 0.0)}
 MAX_AMPLITUDE = 1.5  # [rad]
 LIMIT_SHARE = 0.9    # of the room between the start pose and the nearer limit
+
+
+def min_duration(settings) -> float:
+    """[s] the attitude error is judged from the sweep's start on."""
+    return float(settings["start"]) + JUDGED_WINDOW
 
 
 def derive(robot) -> dict:
@@ -75,7 +83,7 @@ def sweep_trajectory(settings, nq: int, q0=None) -> "kl.QuinticTrajectory":
     a, half = settings["amplitude"], settings["period"] / 2
     j = int(settings["sweep_joint"])
     if not 0 <= j < nq:
-        raise ValueError(f"sweep_joint: expected 0..{nq - 1} (the arm has {nq} joints), got {j}")
+        raise InputError(f"sweep_joint: expected 0..{nq - 1} (the arm has {nq} joints), got {j}")
     q0 = np.zeros(nq) if q0 is None else np.asarray(q0, float)
     n = 2 * int(settings["cycles"])
     points = [q0.copy()]
@@ -96,7 +104,7 @@ def _one(settings, feedforward, seed, duration, robot):
     rig = rig_from_settings(s, seed, robot=robot)
     hover = rig.hover_pos.copy()
     if rig.controller.nq == 0:
-        raise ValueError(f"{NAME} needs an arm; {rig.robot.name} has none")
+        raise InputError(f"{NAME} needs an arm; {rig.robot.name} has none")
     traj = sweep_trajectory(settings, rig.controller.nq, rig.plant.q0[rig.to_ctrl])
 
     def command(t, inp):

@@ -9,14 +9,21 @@ import kiloloop as kl
 
 from ..sil.aerial_rig import (COMMON_DEFAULTS, CONTROL_DT, LAWS, add_derived,
                               diverged, reference_row, rig_from_settings)
-from . import ScenarioResult, evaluate
+from . import JUDGED_WINDOW, ScenarioResult, evaluate
 from .plots import AERIAL_PLOT
 
 NAME = "aerial-attitude-step"
 DESCRIPTION = "10 deg roll step, both attitude laws: overshoot and steady-state error"
 DURATION = 2.5
 DEFAULTS = dict(COMMON_DEFAULTS, law="both", step_deg=10.0, step_time=0.5)
+# Settings' valid ranges (scenarios/__init__.py): a zero time or scale means nothing.
+LIMITS = {"step_time": (">=", 0.0)}
 STEADY_WINDOW = 0.5  # [s] at the end, for the steady-state error
+
+
+def min_duration(settings) -> float:
+    """[s] the steady-state window must lie after the step."""
+    return float(settings["step_time"]) + STEADY_WINDOW
 
 
 def _criteria(laws):

@@ -10,7 +10,7 @@ import numpy as np
 
 from ..sil.aerial_rig import (COMMON_DEFAULTS, Push, add_derived, diverged, hold,
                               rig_from_settings)
-from . import ScenarioResult, evaluate
+from . import JUDGED_WINDOW, ScenarioResult, evaluate
 from .plots import AERIAL_PLOT
 
 NAME = "aerial-push"
@@ -18,8 +18,15 @@ DESCRIPTION = "0.5 m/s sideways push at t = 1 s: peak deviation and recovery tim
 DURATION = 5.0
 DEFAULTS = dict(COMMON_DEFAULTS, delta_v=0.5, push_heading_deg=60.0, push_time=1.0,
                 push_duration=0.02, recovered_within=0.02)
+# Settings' valid ranges (scenarios/__init__.py): a zero time or scale means nothing.
+LIMITS = {"push_duration": (">", 0.0), "push_time": (">=", 0.0), "recovered_within": (">", 0.0)}
 CRITERIA = {"peak_deviation_m": ("<", 0.15), "recovery_time_s": ("<", 2.5),
             "diverged": ("<", 0.5)}
+
+
+def min_duration(settings) -> float:
+    """[s] the push must be over: deviation and recovery are judged after it."""
+    return float(settings["push_time"]) + float(settings["push_duration"]) + JUDGED_WINDOW
 
 
 def run(settings: dict, seed: int = 0, duration: float | None = None,

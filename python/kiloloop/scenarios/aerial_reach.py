@@ -9,9 +9,10 @@ import numpy as np
 
 import kiloloop as kl
 
+from ..errors import InputError
 from ..sil.aerial_rig import (COMMON_DEFAULTS, CONTROL_DT, add_derived, diverged,
                               reference_row, rig_from_settings)
-from . import ScenarioResult, evaluate
+from . import JUDGED_WINDOW, ScenarioResult, evaluate
 from .plots import AERIAL_PLOT
 
 NAME = "aerial-reach"
@@ -24,6 +25,14 @@ DURATION = 4.5
 DEFAULTS = dict(COMMON_DEFAULTS, hold_com=False, q_start=[0.0, -0.8, 0.6],
                 displacement=[-0.05, 0.12, 0.08], t_start=0.5, t_move=3.0)
 CRITERIA = {"max_ee_error_m": ("<", 0.01), "diverged": ("<", 0.5)}
+# Settings' valid ranges (scenarios/__init__.py): a zero time or scale means nothing.
+LIMITS = {"t_start": (">=", 0.0), "t_move": (">", 0.0)}
+SIZES = {"q_start": "nq", "displacement": 3}  # [rad] per arm joint; [m] x, y, z
+
+
+def min_duration(settings) -> float:
+    """[s] the errors are judged from the reach's start on."""
+    return float(settings["t_start"]) + JUDGED_WINDOW
 
 
 def _quintic(s):
@@ -74,7 +83,7 @@ def run(settings: dict, seed: int = 0, duration: float | None = None,
         robot=None) -> ScenarioResult:
     rig = rig_from_settings(settings, seed, robot=robot)
     if rig.controller.nq < 3:
-        raise ValueError(f"{NAME} needs an arm of at least 3 joints (position IK); "
+        raise InputError(f"{NAME} needs an arm of at least 3 joints (position IK); "
                          f"{rig.robot.name} has {rig.controller.nq}")
     rig.plant.reset(q=np.asarray(settings["q_start"], float)[np.argsort(rig.to_ctrl)])
     hover = rig.hover_pos.copy()

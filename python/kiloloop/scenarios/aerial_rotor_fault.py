@@ -7,14 +7,22 @@ import numpy as np
 
 from ..sil.aerial_rig import (COMMON_DEFAULTS, RotorFault, add_derived, diverged,
                               hold, rig_from_settings)
-from . import ScenarioResult, evaluate
+from ..errors import InputError
+from . import JUDGED_WINDOW, ScenarioResult, evaluate
 from .plots import AERIAL_PLOT
 
 NAME = "aerial-rotor-fault"
 DESCRIPTION = "one rotor at 70 % efficiency from t = 1 s: stays airborne, within 10 cm"
 DURATION = 6.0
 DEFAULTS = dict(COMMON_DEFAULTS, rotor=0, efficiency=0.7, fault_time=1.0)
+# Settings' valid ranges (scenarios/__init__.py): a zero time or scale means nothing.
+LIMITS = {"fault_time": (">=", 0.0), "efficiency": (">=", 0.0)}
 CRITERIA = {"max_hover_deviation_m": ("<", 0.10), "airborne": (">", 0.5)}
+
+
+def min_duration(settings) -> float:
+    """[s] the fault must have happened."""
+    return float(settings["fault_time"]) + JUDGED_WINDOW
 
 
 def run(settings: dict, seed: int = 0, duration: float | None = None,
@@ -22,7 +30,7 @@ def run(settings: dict, seed: int = 0, duration: float | None = None,
     rig = rig_from_settings(settings, seed, robot=robot)
     k, eff = int(settings["rotor"]), float(settings["efficiency"])
     if not 0 <= k < rig.n_rotors:
-        raise ValueError(f"rotor: expected 0..{rig.n_rotors - 1}, got {k}")
+        raise InputError(f"rotor: expected 0..{rig.n_rotors - 1}, got {k}")
     events = [(settings["fault_time"], RotorFault(k, eff))]
     log = rig.run(DURATION if duration is None else duration, hold(rig), events=events)
     add_derived(log)

@@ -29,6 +29,9 @@ AIR_DENSITY = 1.225  # [kg/m^3] sea level
 DRAG_SHAPE = 0.2
 DEFAULTS = dict(COMMON_DEFAULTS, wind_speed=5.0, wind_heading_deg=30.0, gust_sigma=1.5,
                 gust_tau=0.5, ramp=1.0, drag_area=0.05)
+# Settings' valid ranges (scenarios/__init__.py): a zero time or scale means nothing.
+LIMITS = {"gust_tau": (">", 0.0), "gust_sigma": (">=", 0.0), "ramp": (">=", 0.0),
+          "drag_area": (">=", 0.0)}
 CRITERIA = {"max_position_error_m": ("<", 0.15), "attitude_error_rms_deg": ("<", 2.0),
             "diverged": ("<", 0.5)}
 

@@ -17,10 +17,11 @@ import numpy as np
 
 import kiloloop as kl
 
+from ..errors import configuring
 from ..sil.arm_adapters import SupervisedTick
 from ..sil.arm_rig import ArmRig, controller, joint_targets, work_pose
 from ..sil.native import Observe
-from . import ScenarioResult, evaluate
+from . import JUDGED_WINDOW, ScenarioResult, evaluate
 from .plots import ARM_ESTOP_PLOT
 
 NAME = "arm-estop"
@@ -44,7 +45,41 @@ CRITERIA = {
     "trips_before_estop": ("<", 1),
     "speed_at_estop_fraction": (">", 0.9),      # the stop happened at cruise speed
 }
+# Robot-file tables it reads (scenarios/__init__.py): the chain, the plant, the joint controller.
+ROBOT_KEYS = ("chain", "sim", "controller")
+SIZES = {"q_start": "nq", "q_goal": "nq"}  # [rad] per joint
+# Settings' valid ranges (scenarios/__init__.py): a zero time or scale means nothing.
+LIMITS = {"velocity_scale": (">", 0.0), "acceleration": (">", 0.0),
+          "stop_deceleration": (">", 0.0), "stopped_speed": (">", 0.0)}
 GOAL_FRACTION = 0.9  # of each joint's free range (capped at 1 rad)
+
+
+def motion(rig, settings):
+    """(q_start, q_goal [rad], the trapezoid, t_estop [s], cruise [rad/s]: the fastest the
+    trapezoid gets, sampled) for the settings; what they leave empty is derived (module doc)."""
+    robot, plant, model = rig.robot, rig.plant, rig.model
+    q_start = np.asarray(settings["q_start"], float) if len(settings["q_start"]) else work_pose(
+        robot, model, plant)
+    q_goal = np.asarray(settings["q_goal"], float) if len(settings["q_goal"]) else joint_targets(
+        model, plant, q_start, 1, GOAL_FRACTION)[0]
+    v_max = np.asarray(model.velocity_limit) * settings["velocity_scale"]
+    a_max = np.full(model.nq, float(settings["acceleration"]))
+    trajectory = kl.TrapezoidTrajectory(np.vstack([q_start, q_goal]), v_max, a_max)
+    t_estop = float(settings["t_estop"]) if settings["t_estop"] >= 0 else 0.5 * trajectory.end_time
+    cruise = max(float(np.abs(trajectory.sample(t)[1]).max())
+                 for t in np.linspace(0.0, trajectory.end_time, 201))
+    return q_start, q_goal, trajectory, t_estop, cruise
+
+
+def min_duration(settings, robot=None) -> float:
+    """[s] a run must see the stop through: the e-stop, the planned stop from cruise speed with
+    the time its criterion allows over the plan, then a judged hold (the motion derived as run()
+    derives it, on a plant of its own)."""
+    rig = ArmRig(robot or kl.Robot.load("ur5"))
+    _, _, _, t_estop, cruise = motion(rig, settings)
+    a = float(settings["stop_deceleration"])
+    stop = cruise / a if a > 0 else 0.0  # a <= 0: refused by the supervisor, with its own line
+    return t_estop + stop + CRITERIA["stop_time_over_plan_s"][1] + JUDGED_WINDOW
 
 
 def run(settings: dict, seed: int = 0, duration: float | None = None,
@@ -53,23 +88,14 @@ def run(settings: dict, seed: int = 0, duration: float | None = None,
     robot = robot or kl.Robot.load("ur5")
     rig = ArmRig(robot, video=settings.get("video"))
     plant, model = rig.plant, rig.model
-    q_start = np.asarray(settings["q_start"], float) if len(settings["q_start"]) else work_pose(
-        robot, model, plant)
-    q_goal = np.asarray(settings["q_goal"], float) if len(settings["q_goal"]) else joint_targets(
-        model, plant, q_start, 1, GOAL_FRACTION)[0]
+    q_start, q_goal, trajectory, t_estop, cruise = motion(rig, settings)
     plant.q0 = q_start
     plant.reset()
-    v_max = np.asarray(model.velocity_limit) * settings["velocity_scale"]
-    a_max = np.full(model.nq, float(settings["acceleration"]))
-    trajectory = kl.TrapezoidTrajectory(np.vstack([q_start, q_goal]), v_max, a_max)
-    t_estop = float(settings["t_estop"]) if settings["t_estop"] >= 0 else 0.5 * trajectory.end_time
     settings = dict(settings, q_start=q_start.tolist(), q_goal=q_goal.tolist(), t_estop=t_estop)
-    # The fastest the trapezoid gets [rad/s] (sampled), to judge the speed at the e-stop by.
-    cruise = max(float(np.abs(trajectory.sample(t)[1]).max())
-                 for t in np.linspace(0.0, trajectory.end_time, 201))
     config = kl.ArmSupervisorConfig()
     config.stop_deceleration = np.array([float(settings["stop_deceleration"])])
-    supervisor = kl.ArmSupervisor(model, config)
+    with configuring(f"{NAME} supervisor"):
+        supervisor = kl.ArmSupervisor(model, config)
     tick = SupervisedTick(controller(robot, model, "computed_torque", q_start), supervisor,
                           trajectory, t_estop)
 

@@ -15,6 +15,7 @@ import numpy as np
 
 import kiloloop as kl
 
+from ..errors import configuring
 from ..sil.arm_adapters import CartesianTick
 from ..sil.arm_rig import ArmRig, joint_config, line_target, work_pose
 from ..sil.native import Observe
@@ -36,6 +37,12 @@ DEFAULTS = {
     "delay_ticks": 0,                     # measurement delay [ticks]
     "native": True,                       # the C++ loop (sil/native.py); false: per tick in Python
 }
+# Robot-file tables it reads (scenarios/__init__.py): the chain, the plant, the joint controller.
+ROBOT_KEYS = ("chain", "sim", "controller")
+SIZES = {"q_start": "nq", "displacement": 3, "rotation": 3}
+# Settings' valid ranges (scenarios/__init__.py): a zero time or scale means nothing.
+LIMITS = {"physics_dt": (">", 0.0), "delay_ticks": (">=", 0), "t_start": (">=", 0.0),
+          "line_duration": (">", 0.0)}
 CRITERIA = {
     "max_ee_error_m": ("<", 1e-3),
     "max_ee_orientation_error_rad": ("<", 5e-3),
@@ -85,7 +92,8 @@ def run(settings: dict, seed: int = 0, duration: float | None = None,
     config = kl.CartesianTrackingConfig()
     config.task_gain = np.full(6, float(settings["task_gain"]))
     config.joint = joint_config(robot, model, q0, settings["delay_ticks"])
-    tick = CartesianTick(kl.CartesianTrackingController(model, config), line)
+    with configuring(f"{NAME} controller"):
+        tick = CartesianTick(kl.CartesianTrackingController(model, config), line)
 
     log = rig.run(tick, DURATION if duration is None else duration,
                   delay_ticks=settings["delay_ticks"], observe=Observe("ee", "ee_rot"),

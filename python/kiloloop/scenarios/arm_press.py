@@ -17,11 +17,12 @@ import numpy as np
 
 import kiloloop as kl
 
+from ..errors import InputError, configuring
 from ..sil import arm_scene
 from ..sil.arm_adapters import PressTick
 from ..sil.arm_rig import ArmRig, line_feasible, work_pose
 from ..sil.log import SignalLog
-from . import ScenarioResult, evaluate
+from . import JUDGED_WINDOW, ScenarioResult, evaluate
 from .plots import ARM_PRESS_PLOT
 
 NAME = "arm-press"
@@ -52,6 +53,13 @@ DEFAULTS = {
     "kv": [],                       # [N s/m]
     "project_motion_wrench": True,  # HybridForcePositionConfig.project_motion_wrench
 }
+# Robot-file tables it reads (scenarios/__init__.py): the chain and the plant. Its force and
+# impedance controllers take their own gains (the settings below), not [controller]'s.
+ROBOT_KEYS = ("chain", "sim")
+SIZES = {"q0": "nq", "solref": 2, "solimp": 5, "kf": 1, "ki": 1, "kv": 1}
+# Settings' valid ranges (scenarios/__init__.py): a zero time or scale means nothing.
+LIMITS = {"settle": (">=", 0.0), "slide_time": (">", 0.0), "gap": (">=", 0.0),
+          "friction": (">=", 0.0), "measure_from": (">=", 0.0), "noslip_iterations": (">=", 0)}
 CRITERIA = {
     "max_force_error_N": ("<", 0.5),
     "max_x_error_m": ("<", 0.002),
@@ -74,10 +82,17 @@ def _make_controller(model, settings):
         return kl.HybridForcePositionController(model, config)
     if settings["controller"] == "impedance":
         return kl.CartesianImpedanceController(model)
-    raise ValueError(f"controller: expected 'hybrid' or 'impedance', got {settings['controller']!r}")
+    raise InputError(f"controller: expected 'hybrid' or 'impedance', got {settings['controller']!r}")
 
 
 SLIDE = 0.05  # of the reach, when the settings give none
+
+
+def min_duration(settings) -> float:
+    """[s] the slide must be over (its fraction is judged at the end), the force judged from
+    measure_from on."""
+    end = float(settings["settle"]) + float(settings["slide_time"])
+    return max(end, float(settings["measure_from"])) + JUDGED_WINDOW
 
 
 # Pressing positions tried: the tool at these fractions of the reach from the first joint,
@@ -131,7 +146,7 @@ def press_pose(rig, settings) -> tuple[np.ndarray, float]:
             if score > best_score:
                 best, best_score = q0, score
     if best is None:
-        raise ValueError(f"{rig.robot.name}: no tool-down pose from which the IK can follow a "
+        raise InputError(f"{rig.robot.name}: no tool-down pose from which the IK can follow a "
                          f"{slide:.3f} m slide along +x")
     return best, slide
 
@@ -154,7 +169,7 @@ def run(settings: dict, seed: int = 0, duration: float | None = None,
     settings = dict(settings, q0=q0.tolist(), slide=slide)
     if not np.allclose(probe.T_world_root()[:3, :3], np.eye(3), atol=1e-9):
         # The force axis and the slide are world z and x, the controller's the root's.
-        raise ValueError(f"arm-press: the chain root of {robot.name} must be level with the world")
+        raise InputError(f"arm-press: the chain root of {robot.name} must be level with the world")
     probe = probe.plant
     probe.reset(q0)
     tip_z = probe.data.xpos[probe.model.body(tip.body).id][2] - tip.radius
@@ -173,7 +188,8 @@ def run(settings: dict, seed: int = 0, duration: float | None = None,
     plant = rig.plant
     plant.q0 = q0
     plant.reset()
-    controller = _make_controller(model, settings)
+    with configuring(f"{NAME} controller"):
+        controller = _make_controller(model, settings)
     # Chain root frame = world orientation (checked above): the task axes are the root's.
     T0 = kl.Dynamics(model).forward_kinematics(q0)
     p0, R0 = T0[:3, 3].copy(), T0[:3, :3].copy()

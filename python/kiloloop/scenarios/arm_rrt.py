@@ -17,6 +17,7 @@ import numpy as np
 
 import kiloloop as kl
 
+from ..errors import InputError
 from ..sil import arm_scene
 from ..sil.arm_adapters import JointTrackingTick
 from ..sil.arm_rig import ArmRig, controller, link_capsules, reach, work_pose
@@ -43,6 +44,13 @@ DEFAULTS = {
     "velocity_scale": 0.5,          # fraction of the URDF velocity limits
     "acceleration": 3.0,            # [rad/s^2] per joint
 }
+# Robot-file tables it reads (scenarios/__init__.py): the chain, the plant, the joint controller
+# and the link capsules the planner checks.
+ROBOT_KEYS = ("chain", "sim", "controller", "collision")
+SIZES = {"q_start": "nq", "q_goal": "nq", "box_center": 3, "box_half_extents": 3}
+# Settings' valid ranges (scenarios/__init__.py): a zero time or scale means nothing.
+LIMITS = {"velocity_scale": (">", 0.0), "acceleration": (">", 0.0), "margin": (">=", 0.0),
+          "max_iterations": (">", 0), "shortcut_iterations": (">=", 0)}
 ROTATION = 2.0      # [rad] of the first joint between start and goal
 BOX_WIDTH = 0.08    # of the reach: the box's half extent in x and y
 CRITERIA = {
@@ -78,7 +86,7 @@ def derive_targets(robot, model, capsules, plant, settings) -> dict:
         lo, up = np.asarray(model.lower)[0], np.asarray(model.upper)[0]
         q_goal[0] = q_start[0] + ROTATION if q_start[0] + ROTATION <= up else q_start[0] - ROTATION
         if q_goal[0] < lo:
-            raise ValueError(f"{robot.name}: the first joint cannot turn {ROTATION} rad")
+            raise InputError(f"{robot.name}: the first joint cannot turn {ROTATION} rad")
     else:
         q_goal = np.asarray(s["q_goal"], float)
     s["q_start"], s["q_goal"] = q_start.tolist(), q_goal.tolist()
@@ -97,7 +105,7 @@ def derive_targets(robot, model, capsules, plant, settings) -> dict:
         half *= 0.7
         tool = tool.copy()
         tool[2] *= 0.8
-    raise ValueError(f"{robot.name}: no box fits between start and goal")
+    raise InputError(f"{robot.name}: no box fits between start and goal")
 
 
 def _floor_below_fixed_links(plant, capsules, margin: float) -> float:
@@ -145,7 +153,7 @@ def plan(model, capsules, settings, seed: int):
     if settings["planner"] == "straight":
         return kl.TrapezoidTrajectory(np.vstack([q_start, q_goal]), v_max, a_max), None, checker
     if settings["planner"] != "rrt":
-        raise ValueError(f"planner: expected 'rrt' or 'straight', got {settings['planner']!r}")
+        raise InputError(f"planner: expected 'rrt' or 'straight', got {settings['planner']!r}")
     config = kl.RrtConfig()
     config.seed = seed
     config.max_iterations = int(settings["max_iterations"])

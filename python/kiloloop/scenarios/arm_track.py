@@ -13,6 +13,7 @@ import numpy as np
 
 import kiloloop as kl
 
+from ..errors import configuring
 from ..sil.arm_adapters import JointTrackingTick
 from ..sil.arm_rig import ArmRig, controller, joint_targets, work_pose
 from ..sil.native import Observe
@@ -40,6 +41,11 @@ DEFAULTS = {
     "t_2": 3.5,           # [s] at waypoint 2
     "native": True,       # the C++ loop (sil/native.py); false: the per-tick Python loop
 }
+# Robot-file tables it reads (scenarios/__init__.py): the chain, the plant, the joint controller.
+ROBOT_KEYS = ("chain", "sim", "controller")
+SIZES = {"q_start": "nq", "waypoint_1": "nq", "waypoint_2": "nq"}  # [rad] per joint
+# Settings' valid ranges (scenarios/__init__.py): a zero time or scale means nothing.
+LIMITS = {"physics_dt": (">", 0.0), "delay_ticks": (">=", 0), "t_1": (">", 0.0)}
 WAYPOINT_FRACTION = 0.5  # of each joint's free range (capped at 1 rad) per waypoint
 CRITERIA = {
     "max_joint_error_rad": ("<", 1e-3),
@@ -73,7 +79,8 @@ def run(settings: dict, seed: int = 0, duration: float | None = None,
     points = waypoints(rig, settings)
     plant.q0 = points[0]
     plant.reset()
-    trajectory = kl.QuinticTrajectory(points, np.array([0.0, settings["t_1"], settings["t_2"]]))
+    with configuring(f"{NAME} t_1, t_2"):  # the times must increase
+        trajectory = kl.QuinticTrajectory(points, np.array([0.0, settings["t_1"], settings["t_2"]]))
     law = settings["controller"]
     tick = JointTrackingTick(controller(robot, model, law, points[0],
                                         delay_ticks=settings["delay_ticks"]), trajectory)

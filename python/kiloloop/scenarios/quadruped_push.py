@@ -7,7 +7,7 @@ import numpy as np
 
 from ..sil.quadruped_rig import (COMMON_DEFAULTS, add_derived, fallen, push_event,
                                  rig_from_settings, trot_command)
-from . import ScenarioResult, evaluate
+from . import JUDGED_WINDOW, ScenarioResult, evaluate
 from .plots import QUADRUPED_PLOT
 
 NAME = "quadruped-push"
@@ -16,6 +16,8 @@ DURATION = 5.0
 PUSH_TIME = 2.0       # [s]
 PUSH_DURATION = 0.1   # [s]
 RECOVERY = 0.8        # [s] after the push ends
+# [s] the roll after the recovery window is judged: the run must get past it.
+MIN_DURATION = PUSH_TIME + PUSH_DURATION + RECOVERY + JUDGED_WINDOW
 # impulse [N s]: 0 = impulse_per_kg times the robot's mass.
 DEFAULTS = dict(COMMON_DEFAULTS, impulse=0.0, impulse_per_kg=0.17, speed=0.5)
 CRITERIA = {"roll_peak_deg": ("<", 5.0), "roll_after_recovery_deg": ("<", 1.0), "fell": ("<", 0.5)}

@@ -7,13 +7,14 @@ import numpy as np
 
 from ..sil.quadruped_rig import (COMMON_DEFAULTS, add_derived, fallen,
                                  rig_from_settings, stand_command)
-from . import ScenarioResult, evaluate
+from . import JUDGED_WINDOW, ScenarioResult, evaluate
 from .plots import QUADRUPED_PLOT
 
 NAME = "quadruped-slope"
 DESCRIPTION = "quadruped stands on a 5 deg slope: foot drift, front/rear normal-force split"
 DURATION = 5.5  # [s] 0.5 s to settle, then the 5 s over which drift is measured
 SETTLE = 0.5
+MIN_DURATION = SETTLE + JUDGED_WINDOW  # [s] the drift is measured from SETTLE on
 DEFAULTS = dict(COMMON_DEFAULTS, slope_deg=5.0)
 CRITERIA = {"foot_drift_m": ("<", 0.01), "split_error_rel": ("<", 0.05), "fell": ("<", 0.5)}
 

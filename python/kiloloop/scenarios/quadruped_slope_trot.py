@@ -7,7 +7,7 @@ import numpy as np
 
 from ..sil.quadruped_rig import (COMMON_DEFAULTS, CommandSchedule, add_derived,
                                  fallen, fell_early, heading_velocity, rig_from_settings)
-from . import ScenarioResult, evaluate
+from . import JUDGED_WINDOW, ScenarioResult, evaluate
 from .plots import QUADRUPED_PLOT
 
 NAME = "quadruped-slope-trot"
@@ -15,6 +15,7 @@ DESCRIPTION = "trot up a 10 deg slope and back down at 0.5 m/s: no fall, roll/pi
 DURATION = 12.0
 START, REVERSE = 0.5, 6.0   # [s] trot uphill from START, downhill (backwards) from REVERSE
 UP, DOWN = (2.0, 6.0), (8.0, 12.0)  # [s] windows the metrics use (after each ramp)
+MIN_DURATION = DOWN[0] + JUDGED_WINDOW  # [s] the downhill window must have begun
 DEFAULTS = dict(COMMON_DEFAULTS, slope_deg=10.0, speed=0.5)
 CRITERIA = {"fell": ("<", 0.5), "roll_pitch_rms_deg": ("<", 3.0),
             "velocity_rms_error_up": ("<", 0.1), "velocity_rms_error_down": ("<", 0.1)}

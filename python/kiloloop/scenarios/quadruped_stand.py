@@ -7,12 +7,14 @@ import numpy as np
 
 from ..sil.quadruped_rig import (COMMON_DEFAULTS, add_derived, fallen,
                                  rig_from_settings, stand_command)
-from . import ScenarioResult, evaluate
+from . import JUDGED_WINDOW, ScenarioResult, evaluate
 from .plots import QUADRUPED_PLOT
 
 NAME = "quadruped-stand"
 DESCRIPTION = "quadruped stands at its standing height; height error after 1 s (noise, delay on)"
 DURATION = 3.0
+JUDGED_FROM = 1.0  # [s] the height error is judged from here on (standing up takes less)
+MIN_DURATION = JUDGED_FROM + JUDGED_WINDOW
 DEFAULTS = dict(COMMON_DEFAULTS, body_height=0.0)  # [m] 0: the robot's standing height
 CRITERIA = {"height_error_after_1s_m": ("<", 0.01), "fell": ("<", 0.5)}
 
@@ -32,7 +34,7 @@ def run(settings: dict, seed: int = 0, duration: float | None = None,
     log = rig.run(DURATION if duration is None else duration, stand_command())
     add_derived(log)
     t, z = log["t"], log["base_pos"][:, 2]  # flat ground at z = 0
-    after = t >= min(1.0, t[-1])
+    after = t >= min(JUDGED_FROM, t[-1])
     metrics = {
         "height_error_after_1s_m": float(np.max(np.abs(z[after] - height))),
         "body_height_m": float(height),

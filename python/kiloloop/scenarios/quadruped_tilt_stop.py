@@ -6,7 +6,7 @@ import numpy as np
 
 from ..sil.quadruped_rig import (COMMON_DEFAULTS, add_derived, push_event,
                                  rig_from_settings, stand_command)
-from . import ScenarioResult, evaluate
+from . import JUDGED_WINDOW, ScenarioResult, evaluate
 from .plots import QUADRUPED_PLOT
 
 NAME = "quadruped-tilt-stop"
@@ -15,7 +15,14 @@ DURATION = 2.0
 PUSH_TIME = 0.5
 # impulse [N s]: 0 = impulse_per_kg times the robot's mass (40 N s on the 17.6 kg model).
 DEFAULTS = dict(COMMON_DEFAULTS, impulse=0.0, impulse_per_kg=2.3, push_duration=0.1, push_height=0.0)
+# Settings' valid ranges (scenarios/__init__.py): a zero time or scale means nothing.
+LIMITS = {"push_duration": (">", 0.0)}
 CRITERIA = {"ticks_late": ("<=", 1.0), "tilted": (">", 0.5)}
+
+
+def min_duration(settings) -> float:
+    """[s] the shove must be over before the tilt can be judged."""
+    return PUSH_TIME + float(settings["push_duration"]) + JUDGED_WINDOW
 
 
 def run(settings: dict, seed: int = 0, duration: float | None = None,

@@ -6,7 +6,7 @@ import numpy as np
 
 from ..sil.quadruped_rig import (COMMON_DEFAULTS, add_derived, fell_early,
                                  rig_from_settings, trot_command, trot_metrics)
-from . import ScenarioResult, evaluate
+from . import JUDGED_WINDOW, ScenarioResult, evaluate
 from .plots import QUADRUPED_PLOT
 
 NAME = "quadruped-trot"
@@ -14,6 +14,7 @@ DESCRIPTION = "quadruped trots at 0.5 m/s for 20 s: no fall, roll/pitch RMS, vel
 DURATION = 20.0
 START = 0.5     # [s] standing before the trot command
 SETTLED = 2.0   # [s] metrics from here on (the command ramps at 1 m/s^2)
+MIN_DURATION = SETTLED + JUDGED_WINDOW  # [s] shorter runs have no metrics to judge
 DEFAULTS = dict(COMMON_DEFAULTS, speed=0.5)
 CRITERIA = {"fell": ("<", 0.5), "roll_pitch_rms_deg": ("<", 3.0), "velocity_rms_error": ("<", 0.1)}
 

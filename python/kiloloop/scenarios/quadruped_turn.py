@@ -7,7 +7,7 @@ import numpy as np
 
 from ..sil.quadruped_rig import (COMMON_DEFAULTS, CommandSchedule, add_derived,
                                  fell_early, rig_from_settings, trot_metrics)
-from . import ScenarioResult, evaluate
+from . import JUDGED_WINDOW, ScenarioResult, evaluate
 from .plots import QUADRUPED_PLOT
 
 NAME = "quadruped-turn"
@@ -15,6 +15,7 @@ DESCRIPTION = "turning trot 0.5 m/s + 0.5 rad/s: no fall, yaw rate tracked, peak
 DURATION = 10.0
 START = 0.5     # [s] standing before the command
 SETTLED = 2.0   # [s] metrics from here on (the command ramps at 1 m/s^2, 1 rad/s^2)
+MIN_DURATION = SETTLED + JUDGED_WINDOW  # [s] shorter runs have no metrics to judge
 DEFAULTS = dict(COMMON_DEFAULTS, speed=0.5, yaw_rate=0.5)
 CRITERIA = {"fell": ("<", 0.5), "roll_pitch_rms_deg": ("<", 3.0), "velocity_rms_error": ("<", 0.1),
             "yaw_rate_rms_error": ("<", 0.1)}

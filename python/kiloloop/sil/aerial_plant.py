@@ -22,6 +22,7 @@ import numpy as np
 
 from ..robot import aerial, sim_defaults
 from ..robot.urdf_joints import urdf_joints
+from ..errors import InputError
 from .floating_base import FloatingBaseReadout, add_free_base, add_imu
 from .floating_base import fixed as _fixed
 from .floating_base import unit_quat as _unit_quat
@@ -81,14 +82,14 @@ class AerialPlant(FloatingBaseReadout):
         eff = efficiency if efficiency is not None else cfg["rotors"]["efficiency"]
         self.efficiency = np.ones(n) if eff is None else _fixed(eff, (n,), "rotors.efficiency")
         if np.any(self.efficiency < 0):
-            raise ValueError(f"rotors.efficiency: expected >= 0, got {eff!r}")
+            raise InputError(f"rotors.efficiency: expected >= 0, got {eff!r}")
 
         names, effort = urdf_joints(urdf_path)
         index = {name: i for i, name in enumerate(names)}
         self.joint_names = list(names if joints is None else joints)
         missing = [j for j in self.joint_names if j not in index]
         if missing:
-            raise ValueError(f"{urdf_path}: no actuated joint named {missing[0]!r}")
+            raise InputError(f"{urdf_path}: no actuated joint named {missing[0]!r}")
         self.nq = len(self.joint_names)
         self.effort = np.array([effort[index[j]] for j in self.joint_names])
 
@@ -132,7 +133,7 @@ class AerialPlant(FloatingBaseReadout):
         if ee is not None:
             ee_body = spec.body(ee)
             if ee_body is None:
-                raise ValueError(f"vehicle.ee: no link named {ee!r} in {urdf_path}")
+                raise InputError(f"vehicle.ee: no link named {ee!r} in {urdf_path}")
             self.ee_site = cfg["ee"]["site"]
             ee_body.add_site(name=self.ee_site)
 

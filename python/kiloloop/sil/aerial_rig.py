@@ -26,6 +26,7 @@ import numpy as np
 import kiloloop as kl
 
 from ..robot import Robot
+from ..errors import InputError, configuring
 from ..robot import aerial as aerial_robot
 from . import native as native_loop
 from .aerial_plant import AerialPlant
@@ -96,7 +97,8 @@ class AerialRig:
         rotors.lag_compensation = settings.lag_compensation
         config.rotors = rotors
         self.config = config
-        self.controller = kl.AerialController(self.model, config)
+        with configuring(f"{robot.name} aerial controller"):
+            self.controller = kl.AerialController(self.model, config)
         self.n_rotors = self.controller.n_rotors
         plant_index = {name: i for i, name in enumerate(self.plant.joint_names)}
         names = list(self.model.joint_names) if self.controller.nq else []
@@ -159,7 +161,7 @@ class AerialRig:
                 out.append((time, kind, payload + [1.0]))
             else:
                 if not 0 <= a.rotor < self.n_rotors:
-                    raise ValueError(f"rotor: expected 0..{self.n_rotors - 1}, got {a.rotor}")
+                    raise InputError(f"rotor: expected 0..{self.n_rotors - 1}, got {a.rotor}")
                 out.append((float(t), native_loop.GAIN, [float(p._rotor_act[a.rotor]), float(a.efficiency)]))
         return out
 
@@ -382,7 +384,7 @@ def config_from_settings(settings: dict, robot=None) -> "kl.AerialConfig":
     """The robot file's derived configuration with the scenario settings on top."""
     config = aerial_robot.config(load_robot(robot))
     if settings["law"] not in LAWS:
-        raise ValueError(f"law: expected one of {sorted(LAWS)}, got {settings['law']!r}")
+        raise InputError(f"law: expected one of {sorted(LAWS)}, got {settings['law']!r}")
     config.attitude.law = getattr(kl.AttitudeLaw, LAWS[settings["law"]])
     config.reaction_feedforward = bool(settings["feedforward"])
     if settings["reaction_lead"] is not None:

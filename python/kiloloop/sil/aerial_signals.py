@@ -12,6 +12,7 @@ import numpy as np
 
 import kiloloop as kl
 
+from ..errors import InputError
 from . import native as native_loop
 
 CONTROL_DT = 0.001  # [s]
@@ -75,7 +76,7 @@ class AerialSignals:
         ni = settings.nonideal
         ni.validate()
         if ni.enabled and ni.velocity_from_encoder_diff:
-            raise ValueError("aerial rig: velocity_from_encoder_diff is not modelled")
+            raise InputError("aerial rig: velocity_from_encoder_diff is not modelled")
         on = ni.enabled
         self.seed = int(seed) if seed is not None else 0
         self.n, self.nq, self.size = n_rotors, nq, 16 + 2 * nq

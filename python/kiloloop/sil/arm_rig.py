@@ -13,6 +13,7 @@ import numpy as np
 
 import kiloloop as kl
 
+from ..errors import InputError, configuring
 from ..robot import arm as arm_defaults
 from . import native as native_loop
 from .log import SignalLog
@@ -165,6 +166,8 @@ class ArmRig:
         self.model = robot.model()
         self.plant = build_plant(robot, scene=scene, visual=bool(video), **plant_kwargs)
         self.video_path = video
+        # Both loops step whole physics steps per 1 ms tick: refuse any other timestep now.
+        LoopSettings().substeps(self.plant.model.opt.timestep)
 
     def T_world_root(self) -> np.ndarray:
         """(4, 4) pose of the chain's root link in MuJoCo's world (fixed base: constant)."""
@@ -238,8 +241,10 @@ def controller(robot, model, law: str, q, *, delay_ticks: int = 0, config=None):
     classes = {"computed_torque": kl.ComputedTorqueController,
                "pd_gravity": kl.JointPdGravityController}
     if law not in classes:
-        raise ValueError(f"controller: expected 'computed_torque' or 'pd_gravity', got {law!r}")
-    return classes[law](model, joint_config(robot, model, q, delay_ticks, config, law))
+        raise InputError(f"controller: expected 'computed_torque' or 'pd_gravity', got {law!r}")
+    config = joint_config(robot, model, q, delay_ticks, config, law)
+    with configuring(f"{robot.name} {law} controller"):
+        return classes[law](model, config)
 
 
 def joint_targets(model, plant: MujocoPlant, q_start, count: int, fraction: float,
@@ -270,7 +275,7 @@ def joint_targets(model, plant: MujocoPlant, q_start, count: int, fraction: floa
             if ok:
                 break
         else:
-            raise ValueError("no collision-free joint target found near the start pose")
+            raise InputError("no collision-free joint target found near the start pose")
         out.append(q)
         q_prev = q
     return out
@@ -346,7 +351,7 @@ def line_target(rig: ArmRig, q0, duration: float) -> tuple[np.ndarray, np.ndarra
                 r = scale * LINE_ROTATION * np.asarray(axis, dtype=float) / np.linalg.norm(axis)
                 if line_feasible(rig.model, q0, d, r, duration, probe=probe):
                     return d, r
-    raise ValueError(f"{rig.robot.name}: no feasible Cartesian line from the work pose")
+    raise InputError(f"{rig.robot.name}: no feasible Cartesian line from the work pose")
 
 
 def link_capsules(robot, model) -> list:
@@ -358,7 +363,7 @@ def link_capsules(robot, model) -> list:
     for link, rows in given.items():
         for row in rows:
             if len(row) != 7:
-                raise ValueError(f"{robot.path}: collision.capsules.{link}: expected "
+                raise InputError(f"{robot.path}: collision.capsules.{link}: expected "
                                  f"[x0, y0, z0, x1, y1, z1, radius] per capsule")
             c = kl.LinkCapsule()
             c.link, c.a, c.b, c.radius = link, np.array(row[:3]), np.array(row[3:6]), row[6]

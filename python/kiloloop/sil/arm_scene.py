@@ -12,6 +12,8 @@ from dataclasses import dataclass
 import mujoco
 import numpy as np
 
+from ..errors import InputError
+
 
 def add_box(spec, name: str, center, half_extents, *, friction: float = 1.0,
             rgba=(0.8, 0.3, 0.2, 0.6)) -> None:
@@ -57,7 +59,7 @@ class ToolTip:
     def __call__(self, spec) -> None:
         parent = spec.body(self.parent)
         if parent is None:
-            raise ValueError(f"tool tip: no link named {self.parent!r}")
+            raise InputError(f"tool tip: no link named {self.parent!r}")
         # No joint: welded to the parent. The force sensor measures what the parent transmits.
         body = parent.add_body(name=self.body, pos=list(self.offset), mass=self.mass,
                                inertia=[1e-8, 1e-8, 1e-8])

@@ -75,9 +75,9 @@ def run_one(scenario: str, params: dict, seed: int, duration: float | None, robo
     start = time.perf_counter()
     try:
         module = scenarios.get(scenario)
-        overrides = dict(item.split("=", 1) for item in (sets or []))
-        overrides.update(params)
-        robot_obj, settings = scenarios.prepare(module, robot, overrides)
+        overrides = overrides_of(sets, params)
+        # run_sweep has warned about unread keys once; its workers stay quiet.
+        robot_obj, settings = scenarios.prepare(module, robot, overrides, warn=False)
         result = scenarios.run(module, settings, robot_obj, seed=seed, duration=duration)
         metrics = {k: float(v) for k, v in result.metrics.items()}
         return {"params": params, "passed": bool(result.passed), "metrics": metrics,
@@ -85,6 +85,12 @@ def run_one(scenario: str, params: dict, seed: int, duration: float | None, robo
     except Exception as e:  # noqa: BLE001 - a sweep records every failure and goes on
         return {"params": params, "passed": False, "metrics": {},
                 "reason": f"error: {type(e).__name__}: {e}", "wall_s": time.perf_counter() - start}
+
+
+def overrides_of(sets, params: dict) -> dict:
+    """Fixed --set items and one grid point as one dict of overrides (the point wins)."""
+    robot_sets, scenario_sets = scenarios.split_overrides(sets or [])
+    return {**robot_sets, **scenario_sets, **params}
 
 
 def run_scenarios(scenario: str, runs: list[dict], threads: int | None = None,

@@ -10,6 +10,7 @@ from pathlib import Path
 import mujoco
 import numpy as np
 
+from ..errors import InputError
 from .plant import joint_addresses
 
 FREE_JOINT = "floating_base"
@@ -40,7 +41,7 @@ def add_free_base(spec, urdf_path: Path):
     """Gives the URDF root link (the only child of the world) the six free DoFs; returns it."""
     root = spec.worldbody.first_body()
     if root is None:
-        raise ValueError(f"{urdf_path}: no links")
+        raise InputError(f"{urdf_path}: no links")
     root.add_freejoint(name=FREE_JOINT)
     return root
 
@@ -50,7 +51,7 @@ def add_imu(spec, imu: dict, base_body: str, urdf_path: Path) -> str:
     and an orientation sensor named <site>_gyro, _accel, _quat; returns the site name."""
     body = spec.body(imu["body"] or base_body)
     if body is None:
-        raise ValueError(f"imu.body: no link named {imu['body']!r} in {urdf_path}")
+        raise InputError(f"imu.body: no link named {imu['body']!r} in {urdf_path}")
     site = imu["site"]
     body.add_site(name=site, pos=fixed(imu["pos"], (3,), "imu.pos"))
     for kind, stype in _IMU_KINDS:

@@ -20,6 +20,7 @@ import numpy as np
 
 from ..robot import sim_defaults
 from ..robot.urdf_joints import urdf_joints
+from ..errors import InputError
 from .floating_base import FloatingBaseReadout, add_free_base, add_imu
 from .geom_bottom import geom_bottom
 from .floating_base import fixed as _fixed
@@ -83,15 +84,15 @@ def set_friction_options(spec, phys: dict) -> None:
     friction lets a loaded foot creep; see sim.toml for the measured creep under each setting."""
     cone = str(phys["cone"]).lower()
     if cone not in _CONES:
-        raise ValueError(f"cone: expected one of {sorted(_CONES)}, got {cone!r}")
+        raise InputError(f"cone: expected one of {sorted(_CONES)}, got {cone!r}")
     spec.option.cone = _CONES[cone]
     impratio = float(phys["impratio"])
     if not np.isfinite(impratio) or impratio <= 0:
-        raise ValueError(f"impratio: expected a positive number, got {phys['impratio']!r}")
+        raise InputError(f"impratio: expected a positive number, got {phys['impratio']!r}")
     spec.option.impratio = impratio
     noslip = int(phys["noslip_iterations"])
     if noslip < 0:
-        raise ValueError(f"noslip_iterations: expected >= 0, got {noslip}")
+        raise InputError(f"noslip_iterations: expected >= 0, got {noslip}")
     spec.option.noslip_iterations = noslip
 
 
@@ -121,13 +122,13 @@ class FloatingBasePlant(FloatingBaseReadout):
         foot_offset = _fixed(cfg["feet"]["offset"], (3,), "feet.offset")
         self.slope = np.deg2rad(float(fcfg["slope_deg"]))
         if not np.isfinite(self.slope) or abs(self.slope) >= np.pi / 2:
-            raise ValueError(f"slope_deg: expected |slope| < 90, got {fcfg['slope_deg']!r}")
+            raise InputError(f"slope_deg: expected |slope| < 90, got {fcfg['slope_deg']!r}")
         if terrain is not None and self.slope != 0.0:
-            raise ValueError("terrain: a terrain replaces the floor; slope_deg must be 0 with it")
+            raise InputError("terrain: a terrain replaces the floor; slope_deg must be 0 with it")
         self.terrain = terrain
         friction = float(fcfg["friction"])
         if not np.isfinite(friction) or friction < 0:
-            raise ValueError(f"floor.friction: expected a non-negative number, got {friction!r}")
+            raise InputError(f"floor.friction: expected a non-negative number, got {friction!r}")
 
         self.joint_names, effort = urdf_joints(urdf_path)
         self.nq = len(self.joint_names)
@@ -147,10 +148,10 @@ class FloatingBasePlant(FloatingBaseReadout):
         for foot in self.feet:
             body = spec.body(foot)
             if body is None:
-                raise ValueError(f"feet: no link named {foot!r} in {urdf_path}")
+                raise InputError(f"feet: no link named {foot!r} in {urdf_path}")
             geoms = list(body.geoms)
             if not geoms:
-                raise ValueError(f"feet: link {foot!r} has no collision geometry")
+                raise InputError(f"feet: link {foot!r} has no collision geometry")
             for k, geom in enumerate(geoms):
                 geom.name = f"{foot}_geom" if len(geoms) == 1 else f"{foot}_geom{k}"
                 geom.friction = [friction, *_SPIN_ROLL]
@@ -278,7 +279,7 @@ class FloatingBasePlant(FloatingBaseReadout):
         force = _fixed(force_world, (3,), "force_world")
         duration = float(duration)
         if not np.isfinite(duration) or duration < 0:
-            raise ValueError(f"duration: expected a non-negative number, got {duration!r}")
+            raise InputError(f"duration: expected a non-negative number, got {duration!r}")
         self._push_force = force
         self._push_steps = int(np.floor(duration / self.timestep + 0.5 + 1e-9))  # half up
 

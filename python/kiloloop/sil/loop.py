@@ -11,6 +11,7 @@ from typing import Callable, Protocol
 
 import numpy as np
 
+from ..errors import InputError
 from .log import SignalLog
 
 
@@ -47,7 +48,7 @@ class LoopSettings:
     def substeps(self, physics_dt: float) -> int:
         n = round(self.control_dt / physics_dt)
         if n < 1 or abs(n * physics_dt - self.control_dt) > 1e-12:
-            raise ValueError(f"control_dt {self.control_dt} is not a multiple of the physics "
+            raise InputError(f"control_dt {self.control_dt} is not a multiple of the physics "
                              f"timestep {physics_dt}")
         return n
 

@@ -14,6 +14,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..errors import InputError
+
 
 @dataclass
 class NonIdealities:
@@ -48,9 +50,9 @@ class NonIdealities:
                      "motor_delay"):
             value = getattr(self, name)
             if not (np.isfinite(value) and value >= 0):
-                raise ValueError(f"{name}: expected a finite number >= 0, got {value!r}")
+                raise InputError(f"{name}: expected a finite number >= 0, got {value!r}")
         if not (self.torque_limit_scale > 0):
-            raise ValueError(f"torque_limit_scale: expected > 0, got {self.torque_limit_scale!r}")
+            raise InputError(f"torque_limit_scale: expected > 0, got {self.torque_limit_scale!r}")
 
     def saturate(self, tau, effort) -> np.ndarray:
         """saturate() at torque_limit_scale when enabled; a copy of tau when not."""
@@ -86,7 +88,7 @@ class SensorModel:
         self.settings = NonIdealities() if settings is None else settings
         self.settings.validate()
         if not (control_dt > 0):
-            raise ValueError(f"control_dt: expected > 0, got {control_dt!r}")
+            raise InputError(f"control_dt: expected > 0, got {control_dt!r}")
         self.control_dt = float(control_dt)
         self.seed = seed
         self.rng = np.random.default_rng(seed)
@@ -146,13 +148,13 @@ class MotorDelay:
             delay = delay.motor_delay if delay.enabled else 0.0
         delay, control_dt = float(delay), float(control_dt)
         if not (np.isfinite(delay) and delay >= 0):
-            raise ValueError(f"delay: expected a finite number >= 0, got {delay!r}")
+            raise InputError(f"delay: expected a finite number >= 0, got {delay!r}")
         if not (np.isfinite(control_dt) and control_dt > 0):
-            raise ValueError(f"control_dt: expected > 0, got {control_dt!r}")
+            raise InputError(f"control_dt: expected > 0, got {control_dt!r}")
         if initial not in ("zeros", "first"):
-            raise ValueError(f"initial: expected 'zeros' or 'first', got {initial!r}")
+            raise InputError(f"initial: expected 'zeros' or 'first', got {initial!r}")
         if n is not None and int(n) < 1:
-            raise ValueError(f"n: expected a positive joint count, got {n!r}")
+            raise InputError(f"n: expected a positive joint count, got {n!r}")
         # Whole ticks, half rounded up (Python's round() would send 2.5 ticks to 2); the 1e-9
         # keeps quotients such as 0.0215 / 0.001 = 21.499999999999996 a tie.
         self.ticks = int(math.floor(delay / control_dt + 0.5 + 1e-9))
@@ -192,6 +194,6 @@ class MotorDelay:
 def saturate(tau, effort, scale: float = 1.0) -> np.ndarray:
     """tau clipped to +-scale * effort (per joint; effort may be inf for no limit)."""
     if not (scale > 0):
-        raise ValueError(f"scale: expected > 0, got {scale!r}")
+        raise InputError(f"scale: expected > 0, got {scale!r}")
     limit = scale * np.asarray(effort, dtype=float)
     return np.clip(_check(tau, "tau"), -limit, limit)

@@ -15,6 +15,7 @@ import numpy as np
 # The [sim.*] defaults live with the robot-file schema, which reads them too.
 from ..robot.sim_defaults import ARM as _DEFAULTS
 from ..robot.urdf_joints import urdf_joints
+from ..errors import InputError
 from .urdf_import import prepare_urdf, weld_joints
 
 # mj_step1/mj_step2 do not support RK4, and the plant relies on the split (see step()).
@@ -35,7 +36,7 @@ def load_overlay(overlay, defaults: dict = _DEFAULTS) -> dict:
     merged = {k: dict(v) for k, v in defaults.items()}
     for section, values in user.items():
         if section not in merged:
-            raise ValueError(f"overlay: unknown section [{section}]")
+            raise InputError(f"overlay: unknown section [{section}]")
         merged[section].update(values)
     return merged
 
@@ -45,7 +46,7 @@ def per_joint(value, n: int, name: str) -> np.ndarray:
     if arr.ndim == 0:
         arr = np.full(n, float(arr))
     if arr.shape != (n,) or not np.all(np.isfinite(arr)) or np.any(arr < 0):
-        raise ValueError(f"{name}: expected a non-negative scalar or a sequence of {n}, "
+        raise InputError(f"{name}: expected a non-negative scalar or a sequence of {n}, "
                          f"got {value!r}")
     return arr
 
@@ -66,7 +67,7 @@ def add_joints_and_motors(spec, joint_names, effort, jcfg: dict, actuators: dict
         if arm is not None:
             joint.armature = arm[i]
     if actuators["type"] != "motor":
-        raise ValueError(f"actuators.type: only 'motor' is supported, got {actuators['type']!r}")
+        raise InputError(f"actuators.type: only 'motor' is supported, got {actuators['type']!r}")
     for name, e in zip(joint_names, effort):
         act = spec.add_actuator(name=name, target=name, trntype=mujoco.mjtTrn.mjTRN_JOINT)
         act.set_to_motor()
@@ -96,7 +97,7 @@ def spec_from_urdf(urdf_path: Path, phys: dict, package_dirs=(), visual: bool = 
     spec.compiler.discardvisual = not visual
     integrator = str(phys["integrator"]).lower()
     if integrator not in _INTEGRATORS:
-        raise ValueError(f"integrator: expected one of {sorted(_INTEGRATORS)}, "
+        raise InputError(f"integrator: expected one of {sorted(_INTEGRATORS)}, "
                          f"got {integrator!r}")
     spec.option.integrator = _INTEGRATORS[integrator]
     spec.option.timestep = float(phys["timestep"])
@@ -148,7 +149,7 @@ class MujocoPlant:
             joints = all_names
         missing = [n for n in joints if n not in all_names]
         if missing:
-            raise ValueError(f"joint {missing[0]!r}: not a movable joint of {urdf_path}")
+            raise InputError(f"joint {missing[0]!r}: not a movable joint of {urdf_path}")
         effort_of = dict(zip(all_names, all_effort))
         self.joint_names = list(joints)
         effort = np.array([effort_of[n] for n in self.joint_names])
@@ -177,7 +178,7 @@ class MujocoPlant:
             ee["body"] = "tool0"  # kiloloop's own convention; robot files name their tip
         ee_body = spec.body(ee["body"])
         if ee_body is None:
-            raise ValueError(f"ee.body: no link named {ee['body']!r} in {urdf_path}")
+            raise InputError(f"ee.body: no link named {ee['body']!r} in {urdf_path}")
         ee_body.add_site(name=self.ee_site)
 
         # Optional scene additions (obstacles, a table, a tool with a force sensor: sil/arm_scene.py)
@@ -188,7 +189,7 @@ class MujocoPlant:
         try:
             self.model = spec.compile()
         except ValueError as e:
-            raise ValueError(f"MuJoCo refuses {urdf_path.name}: {e}") from None
+            raise InputError(f"MuJoCo refuses {urdf_path.name}: {e}") from None
         self.data = mujoco.MjData(self.model)
         # Scratch data for inverse dynamics, so queries never disturb the simulated state.
         self._scratch = mujoco.MjData(self.model)

@@ -23,6 +23,7 @@ import numpy as np
 import kiloloop as kl
 
 from ..robot.quadruped import controller_config, plant_overlay
+from ..errors import InputError, configuring
 from . import native as native_loop
 from .floating_plant import FloatingBasePlant
 from .legged_sensors import LeggedSensorSettings, stages as sensor_stages
@@ -122,7 +123,7 @@ class QuadrupedSignals:
                  sensors: LeggedSensorSettings | None = None):
         nonideal.validate()
         if nonideal.enabled and (nonideal.quat_sigma > 0 or nonideal.velocity_from_encoder_diff):
-            raise ValueError("quadruped rig: quat_sigma and velocity_from_encoder_diff are not "
+            raise InputError("quadruped rig: quat_sigma and velocity_from_encoder_diff are not "
                              "modelled; realistic sensors (sil/legged_sensors.py) are the default")
         on = nonideal.enabled
         self.sensors = sensors if sensors is not None else LeggedSensorSettings()
@@ -175,7 +176,8 @@ class QuadrupedRig:
         # (15 deg would trip the default 15 deg at once; measured: with it raised by the slope
         # both robots stand on 15 deg).
         config.max_tilt = config.max_tilt + float(np.deg2rad(abs(settings.slope_deg)))
-        self.controller = kl.QuadrupedController(self.model, config)
+        with configuring(f"{self.robot.name} quadruped controller"):
+            self.controller = kl.QuadrupedController(self.model, config)
         self.config = self.controller.config  # everything derived filled in
         # Below this trunk height the robot has fallen (half its standing height).
         self.fall_height = 0.5 * self.config.body_height
@@ -185,7 +187,7 @@ class QuadrupedRig:
                                        terrain=None if settings.terrain is None
                                        else settings.terrain(self.config))
         if self.plant.nq != JOINTS:
-            raise ValueError(f"quadruped rig: expected {JOINTS} joints, the plant has {self.plant.nq}")
+            raise InputError(f"quadruped rig: expected {JOINTS} joints, the plant has {self.plant.nq}")
         # Joint order: the controller's (leg-major) vs the plant's (URDF); mapped by name.
         plant_index = {name: i for i, name in enumerate(self.plant.joint_names)}
         self.to_ctrl = np.array([plant_index[n] for n in self.controller.joint_names])

@@ -20,6 +20,8 @@ from dataclasses import dataclass
 import mujoco
 import numpy as np
 
+from ..errors import InputError
+
 _SPIN_ROLL = (0.005, 0.0001)  # MuJoCo's default torsional and rolling friction (as the plant's floor)
 BASE = "terrain_base"
 
@@ -240,7 +242,7 @@ class Compliant:
         if model.opt.cone != mujoco.mjtCone.mjCONE_ELLIPTIC:
             # A pyramidal cone has no normal row of its own: the relation above does not hold
             # (measured: a 5 kg ball sank 0.26 mm instead of 49 mm).
-            raise ValueError("Compliant ground needs the elliptic friction cone")
+            raise InputError("Compliant ground needs the elliptic friction cone")
         d = self.impedance
         solimp = [d, d, 0.001, 0.5, 2.0]
         base = model.geom(BASE).id

@@ -16,6 +16,8 @@ from pathlib import Path
 import mujoco
 import numpy as np
 
+from ..errors import InputError
+
 # Mesh formats MuJoCo's compiler reads itself.
 MUJOCO_MESH_FORMATS = (".stl", ".obj", ".msh")
 MOVABLE = ("revolute", "continuous", "prismatic")
@@ -153,7 +155,7 @@ def weld_joints(spec, keep, locked: dict | None = None) -> list[str]:
                 body.pos = np.asarray(body.pos, dtype=float) + R_body.reshape(3, 3) @ (axis * value)
         removed.append(joint.name)
     if locked:
-        raise ValueError(f"locked: no joint named {sorted(locked)[0]!r} off the chain")
+        raise InputError(f"locked: no joint named {sorted(locked)[0]!r} off the chain")
     gone = set(removed)
     for eq in list(spec.equalities):
         if eq.name1 in gone or eq.name2 in gone:
