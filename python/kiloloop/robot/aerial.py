@@ -110,7 +110,7 @@ def _controller_template() -> dict:
 
 
 def controller_settings(robot) -> dict:
-    from .robot_file import RobotFileError
+    from .errors import RobotFileError
     from .schema import bad_values
 
     c = robot.section("controller")

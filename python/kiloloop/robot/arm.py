@@ -53,7 +53,7 @@ def per_joint(robot, key: str, value, nq: int, scalar: bool = True) -> np.ndarra
     """(nq,) floats from a robot-file value given per joint (or, when `scalar`, as one number
     for every joint); any other count is an error naming the key, the expected and the given
     count (the schema has already checked that the values are numbers)."""
-    from .robot_file import RobotFileError
+    from .errors import RobotFileError
 
     arr = np.atleast_1d(np.asarray(value, dtype=float))
     if arr.shape == (1,) and scalar:

@@ -59,7 +59,7 @@ def _assign(obj, key: str, value, where: str) -> None:
     --set, and the key's table). A list field takes one number for every entry or one per entry
     (a per-joint field: 12 on a 12-joint robot)."""
     from .. import _core
-    from .robot_file import RobotFileError
+    from .errors import RobotFileError
 
     if not hasattr(obj, key):
         raise RobotFileError(f"{where}{key}: not a controller setting")
@@ -98,7 +98,7 @@ def controller_config(robot, actuation_delay: float | None = None):
     radius) from the URDF, the declared actuation delay, then the file's [controller] table
     (which wins)."""
     from .. import _core
-    from .robot_file import RobotFileError
+    from .errors import RobotFileError
 
     config = _core.QuadrupedConfig()
     legs = robot.section("legs")
