@@ -215,13 +215,7 @@ void bind_native(py::module_& parent) {
              if (!s->configure(n, &why)) throw py::value_error(why);
              return s;
            }),
-           py::arg("offset"), py::arg("sigma"), py::arg("seed"), py::arg("n"))
-      .def("apply", [](AttitudeNoise& s, const Array& y, double t) {
-        if (y.ndim() != 1) throw py::value_error("y: expected a vector");
-        Eigen::VectorXd out = Eigen::Map<const Eigen::VectorXd>(y.data(), y.size());
-        s.apply(t, out.data());
-        return out;
-      }, py::arg("y"), py::arg("t") = 0.0, "y with the stage applied (a copy; the per-tick Python loop)");
+           py::arg("offset"), py::arg("sigma"), py::arg("seed"), py::arg("n"));
   py::class_<DropoutStage, SensorStage, std::shared_ptr<DropoutStage>>(
       m, "DropoutStage", "y[offset..offset+count) frozen at its last value during [start, start + duration) [s]")
       .def(py::init([](int offset, int count, double start, double duration) {

@@ -154,7 +154,7 @@ def test_attitude_noise_is_a_small_unit_rotation_of_the_given_sigma():
     y[12:16] = q
     angles = []
     for _ in range(4000):
-        out = stage.apply(y)
+        out = stage.apply(0.0, y)
         assert np.array_equal(out[:12], y[:12])
         assert abs(np.linalg.norm(out[12:16]) - 1.0) < 1e-12
         angles.append(2 * np.arccos(min(1.0, abs(out[12:16] @ q))))

@@ -9,10 +9,10 @@ criteria live beside the scenario and are the very ones its pytest asserts.
 Settings are layered: DEFAULTS < derive(robot) < the robot file's [scenario.<name>] < --set.
 A --set key with a dot (`controller.kp=400`) or naming a robot-file table sets the robot file.
 
-Loops: arm-track, arm-line, arm-estop and quadruped-* run natively (C++ loop, sil/native.py)
-unless `--set native=false` (or video / ground truth for the quadruped); every other scenario runs
-per tick in Python: arm-press (tool force sensor each tick), arm-rrt (MuJoCo box contacts each
-tick), aerial-* (no native adapter yet). README "Native SIL loop" says why.
+Loops: arm-track, arm-line, arm-estop, quadruped-* and aerial-* run natively (C++ loop,
+sil/native.py; video frames between ticks) unless `--set native=false` (or ground truth for the
+quadruped); arm-press (tool force sensor each tick) and arm-rrt (MuJoCo box contacts each tick)
+run per tick in Python. docs/native_sil.md says why.
 
 Optional declarations a scenario module may make, checked here before anything runs:
 - MIN_DURATION [s], or min_duration(settings[, robot]) -> [s]: the shortest run whose metrics

@@ -12,6 +12,7 @@ from ..sil.aerial_rig import (COMMON_DEFAULTS, Push, add_derived, diverged, hold
                               rig_from_settings)
 from . import JUDGED_WINDOW, ScenarioResult, evaluate
 from .plots import AERIAL_PLOT
+from ..sil.timing import whole_periods
 
 NAME = "aerial-push"
 DESCRIPTION = "0.5 m/s sideways push at t = 1 s: peak deviation and recovery time"
@@ -42,7 +43,7 @@ def run(settings: dict, seed: int = 0, duration: float | None = None,
                   events=[(t0, Push(force, dur))])
     add_derived(log)
     t = log["t"]
-    steps = int(np.floor(dur / rig.plant.timestep + 0.5 + 1e-9))
+    steps = whole_periods(dur, rig.plant.timestep)
     on = (t >= t0) & (t < t0 + steps * rig.plant.timestep - 1e-12)
     log.put("push_force", np.where(on[:, None], force, 0.0))
     err = np.linalg.norm(log["base_pos"] - log["pos_ref"], axis=1)

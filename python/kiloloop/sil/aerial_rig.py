@@ -9,7 +9,7 @@ transport delay before the plant; the rotors add their own first-order lag.
 
 Two loops, one log: by default the closed loop runs in C++ (sil/native.py, cpp/sil/
 aerial_adapter.hpp): the command is sampled into a reference table, pushes and rotor faults are
-events, the wind a seeded C++ drag model; with native=False, video, or an event or disturbance
+events, the wind a seeded C++ drag model; with native=False, or an event or disturbance
 given as a Python callable, it runs per tick in Python. Both use the same C++ sensor model (one
 normal per element of y per tick from the seed's xoshiro stream), attitude noise stage, motor
 delay and wind model, so they give the same log (tests/test_native_aerial.py). What both loops
@@ -17,7 +17,6 @@ share as data (event actions, wind, signal models, the reference table): sil/aer
 """
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass, field
 from typing import Callable
 
@@ -36,6 +35,7 @@ from .aerial_signals import (ARM_REFERENCE_FIELDS, CONTROL_DT, REFERENCE_FIELDS,
                              _load_references, _torque_at, reference_row, reference_table)
 from .log import SignalLog
 from .nonideal import NonIdealities
+from .timing import substeps, whole_periods
 from .video import maybe_recorder
 
 DEFAULT_ROBOT = "aerial_manipulator"
@@ -105,17 +105,18 @@ class AerialRig:
         self.to_ctrl = np.array([plant_index[n] for n in names], dtype=int)
         self.to_plant = np.argsort(self.to_ctrl)
         self.signals = AerialSignals(settings, seed, self.n_rotors, self.plant.nq)
-        self.substeps = max(1, round(CONTROL_DT / self.plant.timestep))
+        self.substeps = substeps(self.plant.timestep)
         self.input, self.output = self.controller.make_input(), self.controller.make_output()
         self.hover_pos = self.plant.base_pos0.copy()
 
     # --- the native loop ---------------------------------------------------------------------
 
     def runs_natively(self, events=(), disturbance=None, native: bool | None = None) -> bool:
-        """Whether run() takes the C++ loop: asked for, built in, no video, events Push or
-        RotorFault, the disturbance None or a Wind (the command is sampled into a table)."""
+        """Whether run() takes the C++ loop: asked for, built in, events Push or RotorFault, the
+        disturbance None or a Wind (the command is sampled into a table; a video's frames are
+        captured between ticks)."""
         native = self.settings.native if native is None else native
-        return (native is not False and native_loop.available() and self.settings.video is None
+        return (native is not False and native_loop.available()
                 and all(isinstance(a, (Push, RotorFault)) for _, a in events)
                 and (disturbance is None or isinstance(disturbance, Wind)))
 
@@ -168,10 +169,10 @@ class AerialRig:
     def native_rollout(self, duration: float, command, events=(), disturbance=None, data=None,
                        adapter=None, seed: int | None = None, table=None, stages=()):
         """A configured native Rollout of this rig (data: another MjData of plant.model for a
-        batch, set to the state to start from; a RotorFault writes the model, so a concurrent
-        rollout with one needs its own model and data; adapter: one built on another controller;
-        seed: another noise stream than the rig's; stages: more C++ measurement stages after the
-        rig's own, a sensor dropout)."""
+        batch, a new one starting at the plant's state (native.start_state); a RotorFault writes
+        the model, so a concurrent rollout with one needs its own model and data; adapter: one
+        built on another controller; seed: another noise stream than the rig's; stages: more
+        C++ measurement stages after the rig's own, a sensor dropout)."""
         native_loop.check()
         p, s = self.plant, self.signals
         ticks = native_loop.ticks_of(duration, CONTROL_DT)
@@ -182,7 +183,7 @@ class AerialRig:
             s = AerialSignals(self.settings, seed, self.n_rotors, p.nq)
         addr, source = self.measurement()
         return native_loop._native.Rollout(
-            p.model, p.data if data is None else data, adapter, ticks=ticks,
+            p.model, native_loop.start_state(p, data), adapter, ticks=ticks,
             control_dt=CONTROL_DT, measurement=addr, measurement_source=source,
             actuators=[int(a) for a in p._rotor_act] + [int(a) for a in p._act],
             sigma=s.sigma, quantum=s.quantum, seed=s.seed, stages=s.stages() + list(stages),
@@ -203,9 +204,8 @@ class AerialRig:
         log = SignalLog() if log is None else log
         if self.runs_natively(events, disturbance, native):
             r = self.native_rollout(duration, command, events, disturbance)
-            r.run()
-            if not r.ok:
-                raise RuntimeError(f"native loop stopped at tick {r.ticks_run}: {r.error}")
+            native_loop.drive(r, self.plant.model, self.plant.data, video=self.settings.video,
+                              camera_body=self.plant._base_id)
             native_loop.signal_log(r, log)
             if r.diverged:
                 log.record("diverged", 1.0)
@@ -221,7 +221,7 @@ class AerialRig:
     def _run(self, duration, command, events, log, disturbance, recorder):
         """The per-tick loop, in the native loop's order and with its C++ sensor, motor and wind
         models (the same log); any Python event action or disturbance runs here."""
-        ticks = int(round(duration / CONTROL_DT))
+        ticks = whole_periods(duration)
         table = reference_table(self.controller, command, max(ticks, 1))
         pending = sorted(events, key=lambda e: e[0])
         inp, out, plant, s = self.input, self.output, self.plant, self.signals
@@ -243,11 +243,11 @@ class AerialRig:
                                       d.qvel[np.where(src == 2, addr, 0)]))
             y = sensor.apply(y_raw)
             for stage in stages:
-                y = stage.apply(y, t)
+                y = stage.apply(t, y)
             while pending and t >= pending[0][0]:
                 action = pending.pop(0)[1]
                 if isinstance(action, Push):
-                    steps = int(math.floor(action.duration / ts + 0.5 + 1e-9))
+                    steps = whole_periods(action.duration, ts)
                     pushes.append([np.asarray(action.force, float), steps])
                 else:
                     action(plant)

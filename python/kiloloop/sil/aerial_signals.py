@@ -5,7 +5,6 @@ MotorModel), and the reference table (one row per tick in cpp/sil/aerial_adapter
 SI units; quaternions w, x, y, z."""
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -14,6 +13,7 @@ import kiloloop as kl
 
 from ..errors import InputError
 from . import native as native_loop
+from .timing import whole_periods
 
 CONTROL_DT = 0.001  # [s]
 
@@ -87,7 +87,7 @@ class AerialSignals:
                         if on and ni.encoder_resolution > 0 and nq else [])
         self.quat_sigma = float(ni.quat_sigma) if on else 0.0
         # Whole ticks, half up, as nonideal.MotorDelay.
-        self.motor_delay_ticks = (int(math.floor(ni.motor_delay / CONTROL_DT + 0.5 + 1e-9))
+        self.motor_delay_ticks = (whole_periods(ni.motor_delay)
                                   if on else 0)
 
     def sensor(self):

@@ -177,12 +177,16 @@ class ArmRig:
         T[:3, :3], T[:3, 3] = d.xmat[b].reshape(3, 3), d.xpos[b]
         return T
 
+    def _camera_body(self) -> int:
+        """The body the video's camera follows: the chain's root link."""
+        return self.plant.model.body(self.model.root_name).id if self.model.root_name else 1
+
     def runs_natively(self, tick, observe=None, native: bool | None = True) -> bool:
         """Whether run() takes the native loop: asked for (native not False), built in
-        (native.available()), a tick with a C++ twin, ground truth given as an Observe (or none)
-        and no video (frames are captured per tick in Python)."""
+        (native.available()), a tick with a C++ twin and ground truth given as an Observe (or
+        none); a video's frames are captured between its ticks."""
         return (native is not False and native_loop.available()
-                and hasattr(tick, "native_adapter") and self.video_path is None
+                and hasattr(tick, "native_adapter")
                 and (observe is None or isinstance(observe, native_loop.Observe)))
 
     def run(self, tick, duration: float, *, delay_ticks: int = 0, observe=None,
@@ -194,7 +198,8 @@ class ArmRig:
         if self.runs_natively(tick, observe, native):
             return native_loop.run(self.plant, tick.native_adapter(), duration, log,
                                    delay_ticks=delay_ticks, nonideal=nonideal,
-                                   events=tick.native_events(), observe=observe)
+                                   events=tick.native_events(), observe=observe,
+                                   video=self.video_path, camera_body=self._camera_body())
         plant, step = self.plant, tick
         if nonideal is not None:
             # The same C++ sensor/motor models and streams as the native loop, called per tick.
@@ -203,9 +208,7 @@ class ArmRig:
 
             def step(m, lg):
                 return motor.push(tick(m, lg))
-        recorder = maybe_recorder(self.video_path, self.plant.model,
-                                  body=self.plant.model.body(self.model.root_name).id
-                                  if self.model.root_name else 1)
+        recorder = maybe_recorder(self.video_path, self.plant.model, body=self._camera_body())
 
         def watch(_p, lg):
             # Ground truth from the plant itself, never through the sensor model.

@@ -27,6 +27,7 @@ from .floating_base import fixed as _fixed
 from .floating_base import unit_quat as _unit_quat
 from .plant import add_joints_and_motors, collision_geoms, spec_from_urdf
 from .plant import load_overlay as _load_plant_overlay
+from .timing import whole_periods
 
 # The [sim.*] defaults live with the robot-file schema, which reads them too.
 _DEFAULTS = sim_defaults.QUADRUPED
@@ -281,7 +282,7 @@ class FloatingBasePlant(FloatingBaseReadout):
         if not np.isfinite(duration) or duration < 0:
             raise InputError(f"duration: expected a non-negative number, got {duration!r}")
         self._push_force = force
-        self._push_steps = int(np.floor(duration / self.timestep + 0.5 + 1e-9))  # half up
+        self._push_steps = whole_periods(duration, self.timestep)
 
     def step(self, n: int = 1) -> None:
         # mj_step2 then mj_step1 instead of mj_step: mj_step computes sensors and site poses before

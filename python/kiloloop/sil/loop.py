@@ -11,8 +11,8 @@ from typing import Callable, Protocol
 
 import numpy as np
 
-from ..errors import InputError
 from .log import SignalLog
+from .timing import substeps, whole_periods
 
 
 class Plant(Protocol):
@@ -46,11 +46,7 @@ class LoopSettings:
     delay_ticks: int = 0         # measurement delay in ticks (0 or 1 typically)
 
     def substeps(self, physics_dt: float) -> int:
-        n = round(self.control_dt / physics_dt)
-        if n < 1 or abs(n * physics_dt - self.control_dt) > 1e-12:
-            raise InputError(f"control_dt {self.control_dt} is not a multiple of the physics "
-                             f"timestep {physics_dt}")
-        return n
+        return substeps(physics_dt, self.control_dt)
 
 
 def run_loop(plant: Plant, tick: TickFn, settings: LoopSettings, log: SignalLog | None = None,
@@ -58,7 +54,7 @@ def run_loop(plant: Plant, tick: TickFn, settings: LoopSettings, log: SignalLog 
     """Runs the closed loop for settings.duration and returns the log ("t" plus what tick logs)."""
     log = SignalLog() if log is None else log
     substeps = settings.substeps(plant.timestep)
-    n_ticks = int(round(settings.duration / settings.control_dt))
+    n_ticks = whole_periods(settings.duration, settings.control_dt)
     # Measurements wait in a FIFO to model a transport delay of whole ticks.
     pending: deque[tuple[float, np.ndarray, np.ndarray]] = deque()
     for k in range(n_ticks):

@@ -23,6 +23,7 @@ import numpy as np
 
 from .. import _core
 from .log import SignalLog
+from .timing import whole_periods
 
 _native = _core.native
 
@@ -182,7 +183,7 @@ def force(time: float, body: int, wrench, duration: float) -> tuple:
 
 def ticks_of(duration: float, control_dt: float = 0.001) -> int:
     """Control ticks in `duration` [s], as run_loop counts them."""
-    return int(round(duration / control_dt))
+    return whole_periods(duration, control_dt)
 
 
 def rollout(plant, adapter, duration: float, *, data=None, delay_ticks: int = 0,
@@ -232,13 +233,39 @@ def signal_log(r, log: SignalLog | None = None) -> SignalLog:
     return log
 
 
-def run(plant, adapter, duration: float, log: SignalLog | None = None, **kwargs) -> SignalLog:
-    """One native run on the plant's own data; raises RuntimeError if the loop stopped early."""
+def run(plant, adapter, duration: float, log: SignalLog | None = None, *, video=None,
+        camera_body: int = 1, **kwargs) -> SignalLog:
+    """One native run on the plant's own data; raises RuntimeError if the loop stopped early.
+    video: an .mp4 path, its frames captured between ticks (drive)."""
     r = rollout(plant, adapter, duration, **kwargs)
-    r.run()
+    drive(r, plant.model, plant.data, video=video, camera_body=camera_body)
+    return signal_log(r, log)
+
+
+def drive(r, model, data, *, video=None, camera_body: int = 1, hooks=()) -> None:
+    """Runs a rollout on (model, data) to its end in C++, doing Python's work only between ticks
+    (Rollout.advance): a video frame every 1/30 s of simulated time (video: an .mp4 path, the
+    camera on camera_body) and each hook (tick, fn(model, data)) once that tick has run (a
+    payload attached mid-run). Without either it is one advance. RuntimeError if the loop
+    stopped with an error."""
+    from .video import maybe_recorder
+
+    recorder = maybe_recorder(video, model, body=camera_body) if video else None
+    pending = sorted(hooks, key=lambda h: h[0])
+    try:
+        while not r.finished:
+            if recorder is not None:   # the state each tick starts from: T / (1/30 s) frames
+                recorder.capture(data)
+                r.advance(1)
+            else:
+                r.advance(pending[0][0] - r.ticks_run if pending else 1 << 30)
+            while pending and r.ticks_run >= pending[0][0]:
+                pending.pop(0)[1](model, data)
+    finally:
+        if recorder is not None:
+            recorder.close()
     if not r.ok:
         raise RuntimeError(f"native loop stopped at tick {r.ticks_run}: {r.error}")
-    return signal_log(r, log)
 
 
 def noisy_plant(plant, nonideal: NonIdeal):

@@ -15,6 +15,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import InputError
+from .timing import whole_periods
 
 
 @dataclass
@@ -157,7 +158,7 @@ class MotorDelay:
             raise InputError(f"n: expected a positive joint count, got {n!r}")
         # Whole ticks, half rounded up (Python's round() would send 2.5 ticks to 2); the 1e-9
         # keeps quotients such as 0.0215 / 0.001 = 21.499999999999996 a tie.
-        self.ticks = int(math.floor(delay / control_dt + 0.5 + 1e-9))
+        self.ticks = whole_periods(delay, control_dt)
         self.control_dt = control_dt
         self.n = None if n is None else int(n)
         self.initial = initial

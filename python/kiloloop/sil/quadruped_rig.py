@@ -4,7 +4,7 @@ commands and disturbances and judge the log; this file only moves data (no contr
 
 Two loops, one log: by default the closed loop runs in C++ (sil/native.py, cpp/sil/
 quadruped_adapter.hpp) when the command is a CommandSchedule, the events are Push-es and the stop
-condition a FellBelow (all data); otherwise, or with native=False, video or ground truth, it runs
+condition a FellBelow (all data); otherwise, or with native=False or ground truth, it runs
 per tick in Python. Both call the same C++ sensor model (noise, quantization: one normal per
 element of y = [q; qd; gyro; accel; quat] per tick from the seed's xoshiro stream), the same C++
 measurement stages (realistic sensors, sil/legged_sensors.py: MEMS IMU with bias, encoder-difference
@@ -14,7 +14,6 @@ joint velocity) and motor model (transport delay, saturation), so they give the 
 from __future__ import annotations
 
 import bisect
-import math
 from dataclasses import dataclass, field
 from typing import Callable
 
@@ -29,6 +28,7 @@ from .floating_plant import FloatingBasePlant
 from .legged_sensors import LeggedSensorSettings, stages as sensor_stages
 from .log import SignalLog
 from .nonideal import NonIdealities
+from .timing import substeps, whole_periods
 
 CONTROL_DT = 0.001  # [s]
 JOINTS = 12
@@ -137,7 +137,7 @@ class QuadrupedSignals:
         self.quantum = ([nonideal.encoder_resolution] * JOINTS + [0.0] * (JOINTS + 10)
                         if on and not self.realistic and nonideal.encoder_resolution > 0 else [])
         # Whole ticks, half up, as nonideal.MotorDelay.
-        self.motor_delay_ticks = (int(math.floor(nonideal.motor_delay / CONTROL_DT + 0.5 + 1e-9))
+        self.motor_delay_ticks = (whole_periods(nonideal.motor_delay)
                                   if on else 0)
         self.motor_limit = list(nonideal.torque_limit_scale * np.asarray(effort, float)) if on else []
 
@@ -194,16 +194,16 @@ class QuadrupedRig:
         self.to_plant = np.argsort(self.to_ctrl)
         self.effort = np.asarray(self.controller.effort_limit)[self.to_plant]
         self.signals = QuadrupedSignals(settings.nonideal, seed, self.effort, settings.sensors)
-        self.substeps = max(1, round(CONTROL_DT / self.plant.timestep))
+        self.substeps = substeps(self.plant.timestep)
         self.input, self.output = kl.QuadrupedInput(), kl.QuadrupedOutput()
 
     # --- the native loop ---------------------------------------------------------------------
 
     def runs_natively(self, command, events=(), stop_when=None, native: bool | None = None) -> bool:
-        """Whether run() takes the C++ loop: asked for, built in, no video, no ground truth, and
-        command, events and stop condition given as data."""
+        """Whether run() takes the C++ loop: asked for, built in, no ground truth, and command,
+        events and stop condition given as data (a video's frames are captured between ticks)."""
         native = self.settings.native if native is None else native
-        return (native is not False and native_loop.available() and self.settings.video is None
+        return (native is not False and native_loop.available()
                 and not self.settings.ground_truth and isinstance(command, CommandSchedule)
                 and all(isinstance(action, Push) for _, action in events)
                 and (stop_when is None or isinstance(stop_when, FellBelow)))
@@ -228,16 +228,16 @@ class QuadrupedRig:
     def native_rollout(self, duration: float, command: CommandSchedule, events=(), stop_when=None,
                        data=None, adapter=None, seed: int | None = None, stages=()):
         """A configured native Rollout of this rig (data: another MjData of plant.model for a
-        batch, set to the state to start from; adapter: one built on another controller; seed:
-        another noise stream than the rig's; stages: more C++ measurement stages after the
-        rig's own, a sensor dropout)."""
+        batch, a new one starting at the plant's state (native.start_state); adapter: one built
+        on another controller; seed: another noise stream than the rig's; stages: more C++
+        measurement stages after the rig's own, a sensor dropout)."""
         native_loop.check()
         p, s = self.plant, self.signals
         forces = [native_loop.force(t, p._base_id, [*a.force, 0.0, 0.0, 0.0], a.duration)
                   for t, a in events]
         stop = (0, 2, float(stop_when.height)) if stop_when is not None else None
         return native_loop._native.Rollout(
-            p.model, p.data if data is None else data,
+            p.model, native_loop.start_state(p, data),
             adapter if adapter is not None else self.native_adapter(command),
             ticks=native_loop.ticks_of(duration, CONTROL_DT), control_dt=CONTROL_DT,
             measurement=self.measurement_addresses(), actuators=[int(a) for a in p._act],
@@ -262,9 +262,9 @@ class QuadrupedRig:
         log = SignalLog() if log is None else log
         if self.runs_natively(command, events, stop_when, native):
             r = self.native_rollout(duration, command, events, stop_when)
-            r.run()
-            if not r.ok:
-                raise RuntimeError(f"native loop stopped at tick {r.ticks_run}: {r.error}")
+            p = self.plant
+            native_loop.drive(r, p.model, p.data, video=self.settings.video,
+                              camera_body=p.model.body(p.base_body).id)
             return native_loop.signal_log(r, log)
         from .video import maybe_recorder
 
@@ -284,7 +284,7 @@ class QuadrupedRig:
         for stage in stages:
             stage.configure(2 * JOINTS + 10)
         n = JOINTS
-        for k in range(int(round(duration / CONTROL_DT))):
+        for k in range(whole_periods(duration)):
             t = k * CONTROL_DT
             while pending and pending[0][0] <= t + 1e-12:
                 pending.pop(0)[1](plant)

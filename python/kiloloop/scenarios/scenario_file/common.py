@@ -6,8 +6,7 @@ from __future__ import annotations
 import numpy as np
 
 from ...sil import native
-from ...sil.video import maybe_recorder
-from .events import Payload, SensorDropout
+from .events import SensorDropout
 
 CONTROL_DT = 0.001  # [s]
 
@@ -78,31 +77,13 @@ def attach_payload(model, body: int, mass: float, com) -> None:
 
 
 def drive(rollout, plant_model, plant_data, payloads: list, video: str | None, camera_body: int):
-    """Runs the native rollout to its end: between ticks it attaches each payload at its time
-    and captures video frames (nothing runs in Python per tick otherwise: advance(n) runs n
-    ticks in C++). payloads: (tick, body id, Payload) in time order."""
-    recorder = maybe_recorder(video, plant_model, body=camera_body) if video else None
-    try:
-        pending = sorted(payloads, key=lambda p: p[0])
-        while not rollout.finished:
-            until = pending[0][0] if pending else None
-            if recorder is not None:
-                rollout.advance(1)
-                recorder.capture(plant_data)
-            else:
-                rollout.advance((until - rollout.ticks_run) if until is not None else 1 << 30)
-            while pending and rollout.ticks_run >= pending[0][0]:
-                _, body, p = pending.pop(0)
-                attach_payload(plant_model, body, p.mass, p.com)
-    finally:
-        if recorder is not None:
-            recorder.close()
-    if not rollout.ok:
-        raise RuntimeError(f"native loop stopped at tick {rollout.ticks_run}: {rollout.error}")
+    """Runs the native rollout to its end, attaching each payload (tick, body id, Payload) once
+    its tick has run and capturing video frames between ticks (sil/native.drive)."""
+    def attach(body, p):
+        return lambda model, _data: attach_payload(model, body, p.mass, p.com)
 
-
-def payloads_at_start(events) -> list:
-    return [e for e in events if isinstance(e, Payload) and e.t == 0.0]
+    native.drive(rollout, plant_model, plant_data, video=video, camera_body=camera_body,
+                 hooks=[(tick, attach(body, p)) for tick, body, p in payloads])
 
 
 def cumulative(flags: np.ndarray) -> np.ndarray:
