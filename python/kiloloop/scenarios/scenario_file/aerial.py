@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ...errors import InputError
 from ...sil import native
 from ...sil.aerial_rig import (COMMON_DEFAULTS, Push, RotorFault, rig_from_settings,
                                rotation_vector_error)
@@ -49,12 +50,12 @@ def run(scenario, robot, settings: dict, seed: int, duration: float, video: str 
         if isinstance(e, PushEvent):
             if e.body is not None and common.body_id(rig.plant.model, e.body,
                                                      f"events[{i}].body") != base:
-                raise ValueError(f"events[{i}].body: pushes act at the vehicle's CoM on a "
+                raise InputError(f"events[{i}].body: pushes act at the vehicle's CoM on a "
                                  f"multirotor")
             events.append((e.t, Push(e.force, e.duration)))
         elif isinstance(e, RotorFaultEvent):
             if e.rotor >= rig.n_rotors:
-                raise ValueError(f"events[{i}].rotor: {e.rotor} is not a rotor of "
+                raise InputError(f"events[{i}].rotor: {e.rotor} is not a rotor of "
                                  f"{robot.name} (0..{rig.n_rotors - 1})")
             events.append((e.t, RotorFault(e.rotor, e.efficiency)))
         elif isinstance(e, Payload):
@@ -67,7 +68,7 @@ def run(scenario, robot, settings: dict, seed: int, duration: float, video: str 
                                                      "joints": (16, 2 * nq)})
     if not settings["native"]:
         if payloads or stages:
-            raise ValueError("settings.native = false (the per-tick Python loop) runs "
+            raise InputError("settings.native = false (the per-tick Python loop) runs "
                              "no payload or sensor_dropout events on a multirotor")
         log = rig.run(duration, command, events=events, native=False)
     else:

@@ -8,6 +8,7 @@ import numpy as np
 
 import kiloloop as kl
 
+from ...errors import InputError
 from ...sil import native
 from ...sil.arm_adapters import JointTrackingTick, SupervisedTick
 from ...sil.arm_rig import ArmRig, controller, work_pose
@@ -51,13 +52,13 @@ def waypoints(reference, model, rig) -> np.ndarray:
     if reference.kind == "joint":
         q = reference.values["q"]
         if q.shape[1] != model.nq:
-            raise ValueError(f"reference.joint.q: rows of {q.shape[1]} values for an arm of "
+            raise InputError(f"reference.joint.q: rows of {q.shape[1]} values for an arm of "
                              f"{model.nq} joints ({', '.join(names)})")
         points = q
     else:
         seed = reference.values.get("q0")
         if seed is not None and len(seed) != model.nq:
-            raise ValueError(f"reference.cartesian.q0: {len(seed)} values for {model.nq} joints")
+            raise InputError(f"reference.cartesian.q0: {len(seed)} values for {model.nq} joints")
         seed = work_pose(rig.robot, model, rig.plant) if seed is None else seed
         dyn, ik = kl.Dynamics(model), kl.ArmIk(model)
         R_start = dyn.forward_kinematics(seed)[:3, :3]
@@ -68,7 +69,7 @@ def waypoints(reference, model, rig) -> np.ndarray:
             T[:3, 3] = xyz
             q, status = ik.solve(T, seed)
             if int(status) < 0:
-                raise ValueError(f"reference.cartesian.xyz[{i}]: the IK finds no joint "
+                raise InputError(f"reference.cartesian.xyz[{i}]: the IK finds no joint "
                                  f"configuration within the limits for this pose ({status.name})")
             points.append(np.asarray(q, float))
             seed = points[-1]
@@ -78,7 +79,7 @@ def waypoints(reference, model, rig) -> np.ndarray:
         if len(out):
             j = out[0]
             key = "joint.q" if reference.kind == "joint" else "cartesian.xyz"
-            raise ValueError(f"reference.{key}[{i}]: {names[j]} at {row[j]:.4g} rad is outside its "
+            raise InputError(f"reference.{key}[{i}]: {names[j]} at {row[j]:.4g} rad is outside its "
                              f"limits [{lo[j]:.4g}, {hi[j]:.4g}]")
     return points
 
@@ -86,7 +87,7 @@ def waypoints(reference, model, rig) -> np.ndarray:
 def run(scenario, robot, settings: dict, seed: int, duration: float, video: str | None):
     """The run's log (family signals added) and the vector signals' component names."""
     if settings["controller"] not in LAWS:
-        raise ValueError(f"settings.controller: expected one of {', '.join(LAWS)}, got "
+        raise InputError(f"settings.controller: expected one of {', '.join(LAWS)}, got "
                          f"{settings['controller']!r}")
     plant_only = {k: None if settings[k] in (None, "", "none") else float(settings[k])
                   for k in ("damping", "frictionloss", "armature")}
@@ -126,7 +127,7 @@ def run(scenario, robot, settings: dict, seed: int, duration: float, video: str 
     observe = native.Observe("q_true", "qd_true", "ee")
     if not settings["native"]:
         if forces or payloads or stages:
-            raise ValueError("settings.native = false (the per-tick Python loop) runs "
+            raise InputError("settings.native = false (the per-tick Python loop) runs "
                              "no push, payload or sensor_dropout events on an arm")
         log = rig.run(tick, duration, delay_ticks=delay_ticks, observe=observe, native=False,
                       nonideal=nonideal)

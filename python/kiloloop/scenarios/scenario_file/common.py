@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ...errors import InputError
 from ...sil import native
 from .events import SensorDropout
 
@@ -23,7 +24,7 @@ def body_id(model, name: str, what: str) -> int:
     bid = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_BODY, name)
     if bid < 0:
         names = [model.body(i).name for i in range(1, model.nbody)]
-        raise ValueError(f"{what}: no body {name!r} in the plant (links merged by fixed joints "
+        raise InputError(f"{what}: no body {name!r} in the plant (links merged by fixed joints "
                          f"take their parent's body); bodies: {', '.join(names)}")
     return bid
 
@@ -36,7 +37,7 @@ def dropout_stages(events, layout: dict) -> list:
         if not isinstance(e, SensorDropout):
             continue
         if e.sensor not in layout or layout[e.sensor][1] == 0:
-            raise ValueError(f"events: sensor_dropout at {e.t:g} s: this robot has no "
+            raise InputError(f"events: sensor_dropout at {e.t:g} s: this robot has no "
                              f"{e.sensor!r} sensor; it has {', '.join(k for k, v in layout.items() if v[1])}")
         offset, count = layout[e.sensor]
         out.append(native._native.DropoutStage(int(offset), int(count), float(e.t),

@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ...errors import InputError
 from ...sil.quadruped_rig import (COMMON_DEFAULTS, CommandSchedule, fell_early, heading_velocity,
                                   rig_from_settings, roll_pitch)
 from . import common
@@ -45,7 +46,7 @@ def run(scenario, robot, settings: dict, seed: int, duration: float, video: str 
                                                               f"events[{i}].body")
             if isinstance(e, Push):
                 if body != base:
-                    raise ValueError(f"events[{i}].body: pushes act on the trunk "
+                    raise InputError(f"events[{i}].body: pushes act on the trunk "
                                      f"({rig.plant.base_body}) on a quadruped")
                 pushes.append((e.t, _push(e)))
             else:
@@ -55,7 +56,7 @@ def run(scenario, robot, settings: dict, seed: int, duration: float, video: str 
     stop = fell_early(rig)
     if not settings["native"]:
         if payloads or stages:
-            raise ValueError("settings.native = false (the per-tick Python loop) runs "
+            raise InputError("settings.native = false (the per-tick Python loop) runs "
                              "no payload or sensor_dropout events on a quadruped")
         log = rig.run(duration, schedule, events=pushes, stop_when=stop, native=False)
     else:

@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import math
 
+from ...errors import InputError
 from .. import ScenarioResult, parse_settings, split_overrides
 from . import aerial, arm, quadruped
 from . import baseline as baseline_mod
@@ -85,9 +86,9 @@ def run(scenario: ScenarioFile, robot=None, overrides=None, seed: int | None = N
         raise ScenarioFileError(where, "events", f"{type(late[0]).__name__} at {late[0].t:g} s "
                                 f"lies beyond the run's {duration:g} s")
     family = FAMILIES[scenario.family]
-    try:
+    try:   # what the robot cannot do with this file (a joint count, a rotor, a link name)
         log, components = family.run(scenario, robot, settings, seed, duration, video)
-    except ValueError as e:
+    except InputError as e:
         raise ScenarioFileError(where, "", str(e)) from None
     table = criteria_mod.evaluate(scenario.criteria, log["t"],
                                   {n: log[n] for n in _signals_read(scenario) if n in log},
