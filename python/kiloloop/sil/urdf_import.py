@@ -45,7 +45,8 @@ def _fit_box(path: Path, scale) -> tuple[np.ndarray, np.ndarray]:
     return np.asarray(centre, dtype=float), np.maximum(np.asarray(half, dtype=float), 1e-4)
 
 
-def _rpy_matrix(rpy) -> np.ndarray:
+def rpy_matrix(rpy) -> np.ndarray:
+    """(3, 3) rotation of URDF roll, pitch, yaw [rad]: about fixed x, then y, then z."""
     r, p, y = rpy
     cr, sr, cp, sp, cy, sy = np.cos(r), np.sin(r), np.cos(p), np.sin(p), np.cos(y), np.sin(y)
     return np.array([[cy * cp, cy * sp * sr - sy * cr, cy * sp * cr + sy * sr],
@@ -94,7 +95,7 @@ def prepare_urdf(urdf_path: Path, package_dirs=(), *, visual: bool = False) -> t
                     origin = ET.SubElement(elem, "origin")
                 xyz = _floats(origin.get("xyz"), 3, 0.0)
                 rpy = _floats(origin.get("rpy"), 3, 0.0)
-                origin.set("xyz", " ".join(repr(float(v)) for v in xyz + _rpy_matrix(rpy) @ centre))
+                origin.set("xyz", " ".join(repr(float(v)) for v in xyz + rpy_matrix(rpy) @ centre))
                 origin.set("rpy", " ".join(repr(float(v)) for v in rpy))
                 geometry = elem.find("geometry")
                 geometry.remove(mesh)

@@ -12,6 +12,7 @@ from ...errors import InputError
 from ...sil import native
 from ...sil.arm_adapters import JointTrackingTick, SupervisedTick
 from ...sil.arm_rig import ArmRig, controller, work_pose
+from ...sil.urdf_import import rpy_matrix
 from . import common
 from .events import Estop, Payload, Push
 
@@ -36,14 +37,6 @@ DEFAULTS = {
 LAWS = ("computed_torque", "pd_gravity")
 
 
-def _rpy_matrix(rpy) -> np.ndarray:
-    r, p, y = rpy
-    cr, sr, cp, sp, cy, sy = np.cos(r), np.sin(r), np.cos(p), np.sin(p), np.cos(y), np.sin(y)
-    return np.array([[cy * cp, cy * sp * sr - sy * cr, cy * sp * cr + sy * sr],
-                     [sy * cp, sy * sp * sr + cy * cr, sy * sp * cr - cy * sr],
-                     [-sp, cp * sr, cp * cr]])
-
-
 def waypoints(reference, model, rig) -> np.ndarray:
     """(k, nq) [rad] joint waypoints: the file's, or the IK's for the tool poses (each solved
     from the previous solution, the first from `q0` or the robot's work pose)."""
@@ -65,7 +58,7 @@ def waypoints(reference, model, rig) -> np.ndarray:
         points = []
         for i, (xyz, rpy) in enumerate(zip(reference.values["xyz"], reference.values["rpy"])):
             T = np.eye(4)
-            T[:3, :3] = R_start if np.isnan(rpy).any() else _rpy_matrix(rpy)
+            T[:3, :3] = R_start if np.isnan(rpy).any() else rpy_matrix(rpy)
             T[:3, 3] = xyz
             q, status = ik.solve(T, seed)
             if int(status) < 0:
