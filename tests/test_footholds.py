@@ -1,9 +1,9 @@
-"""sil/footholds.py on synthetic logs: stance intervals (bounces ignored, unfinished ones left
+"""scenarios/footholds.py on synthetic logs: stance intervals (bounces ignored, unfinished ones left
 out), slip as the centre's largest travel while loaded, touch-down heights against a terrain."""
 import numpy as np
 import pytest
 
-from kiloloop.sil import footholds
+from kiloloop.scenarios import footholds
 
 WEIGHT = 100.0  # [N]
 DT = 0.001

@@ -12,8 +12,8 @@ import kiloloop as kl
 from kiloloop import scenarios
 from kiloloop.scenarios import aerial_hover
 from kiloloop.sil import aerial_rig, batch, native
-from kiloloop.sil.aerial_rig import (Push, RotorFault, Wind, hold, reference_table,
-                                     rig_from_settings)
+from kiloloop.sil.aerial_rig import Push, RotorFault, Wind, reference_table, rig_from_settings
+from kiloloop.scenarios.aerial_metrics import hold
 
 pytestmark = pytest.mark.skipif(not native.available(), reason="built without the native loop")
 

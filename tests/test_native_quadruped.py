@@ -10,8 +10,8 @@ import pytest
 import kiloloop as kl
 from kiloloop import scenarios
 from kiloloop.sil import batch, native
-from kiloloop.sil.quadruped_rig import (FellBelow, push_event, rig_from_settings, stand_command,
-                                        trot_command)
+from kiloloop.sil.quadruped_rig import FellBelow, push_event, rig_from_settings, stand_command
+from kiloloop.scenarios.quadruped_metrics import trot_command
 from kiloloop.scenarios import quadruped_trot
 
 pytestmark = pytest.mark.skipif(not native.available(), reason="built without the native loop")

@@ -20,7 +20,8 @@ from .native_timing import (BATCH, REPEATS, batch_figures, python_figures, tick_
 
 def _setup():
     from ..scenarios import aerial_hover, parse_settings
-    from ..sil.aerial_rig import hold, reference_table, rig_from_settings
+    from ..sil.aerial_rig import reference_table, rig_from_settings
+    from ..scenarios.aerial_metrics import hold
 
     rig = rig_from_settings(parse_settings(aerial_hover.DEFAULTS, None), seed=0)
     command = hold(rig)

@@ -19,7 +19,8 @@ from .native_timing import (BATCH, REPEATS, batch_figures, python_figures, tick_
 
 def _setup():
     from ..scenarios import parse_settings, quadruped_trot
-    from ..sil.quadruped_rig import rig_from_settings, trot_command
+    from ..sil.quadruped_rig import rig_from_settings
+    from ..scenarios.quadruped_metrics import trot_command
 
     settings = parse_settings(quadruped_trot.DEFAULTS, None)
     rig = rig_from_settings(settings, seed=0)

@@ -31,8 +31,8 @@ from gymnasium.vector.utils import batch_space
 import kiloloop as kl
 
 from ..sil import native
-from ..sil.quadruped_rig import (COMMON_DEFAULTS, CONTROL_DT, FellBelow, heading_velocity,
-                                 rig_from_settings, roll_pitch, trot_command)
+from ..sil.quadruped_rig import COMMON_DEFAULTS, CONTROL_DT, FellBelow, rig_from_settings
+from ..scenarios.quadruped_metrics import heading_velocity, roll_pitch, trot_command
 
 ACTION_SCALE = 0.1   # [body heights] foot offset per unit action
 WARMUP = 0.5         # [s] standing before the trot command, run in reset()

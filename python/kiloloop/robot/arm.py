@@ -4,8 +4,8 @@
 - work pose: a well-conditioned pose near the start pose (Cartesian scenarios start there);
 - joint gains: a target bandwidth (rad/s) and damping ratio, scaled by the mass matrix where the
   control law needs it (PD + gravity), or exact (computed torque);
-- reach (sil/arm_rig.py, from the plant's geometry): the scale of every Cartesian size a scenario
-  derives.
+- reach (scenarios/arm_targets.py, from the plant's geometry): the scale of every Cartesian
+  size a scenario derives.
 """
 from __future__ import annotations
 

@@ -1,5 +1,6 @@
-"""`kiloloop robot check` on an arm: what robot/arm.py derived, the plant (sil/arm_rig.py: work
-pose and reach come from its geometry) and the controllers the scenarios build."""
+"""`kiloloop robot check` on an arm: what robot/arm.py derived, the plant (sil/arm_rig.py; work
+pose and reach come from its geometry, scenarios/arm_targets.py) and the controllers the
+scenarios build."""
 from __future__ import annotations
 
 import numpy as np
@@ -7,7 +8,8 @@ import numpy as np
 import kiloloop as kl
 
 from ..robot import arm
-from ..sil.arm_rig import build_plant, reach, work_pose
+from ..sil.arm_rig import build_plant
+from ..scenarios.arm_targets import reach, work_pose
 
 
 def summary(robot, model) -> list[str]:

@@ -24,9 +24,9 @@ import numpy as np
 
 import kiloloop as kl
 
-from ..sil.aerial_rig import (COMMON_DEFAULTS, CONTROL_DT, REFERENCE_WIDTH,
-                              add_derived, diverged, reference_row, rig_from_settings,
-                              rotation_vector_error)
+from ..sil.aerial_rig import (COMMON_DEFAULTS, CONTROL_DT, REFERENCE_WIDTH, reference_row,
+                              rig_from_settings)
+from .aerial_metrics import add_derived, diverged, rotation_vector_error
 from ..errors import InputError
 from . import JUDGED_WINDOW, ScenarioResult, evaluate
 from .plots import AERIAL_ARM_SWEEP_PLOT

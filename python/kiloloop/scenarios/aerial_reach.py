@@ -10,8 +10,8 @@ import numpy as np
 import kiloloop as kl
 
 from ..errors import InputError
-from ..sil.aerial_rig import (COMMON_DEFAULTS, CONTROL_DT, add_derived, diverged,
-                              reference_row, rig_from_settings)
+from ..sil.aerial_rig import COMMON_DEFAULTS, CONTROL_DT, reference_row, rig_from_settings
+from .aerial_metrics import add_derived, diverged
 from . import JUDGED_WINDOW, ScenarioResult, evaluate
 from .plots import AERIAL_PLOT
 

@@ -5,8 +5,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..sil.aerial_rig import (COMMON_DEFAULTS, RotorFault, add_derived, diverged,
-                              hold, rig_from_settings)
+from ..sil.aerial_rig import COMMON_DEFAULTS, RotorFault, rig_from_settings
+from .aerial_metrics import add_derived, diverged, hold
 from ..errors import InputError
 from . import JUDGED_WINDOW, ScenarioResult, evaluate
 from .plots import AERIAL_PLOT

@@ -19,7 +19,8 @@ import kiloloop as kl
 
 from ..errors import configuring
 from ..sil.arm_adapters import SupervisedTick
-from ..sil.arm_rig import ArmRig, controller, joint_targets, work_pose
+from ..sil.arm_rig import ArmRig, controller
+from .arm_targets import joint_targets, work_pose
 from ..sil.native import Observe
 from . import JUDGED_WINDOW, ScenarioResult, evaluate
 from .plots import ARM_ESTOP_PLOT

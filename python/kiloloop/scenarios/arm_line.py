@@ -6,7 +6,8 @@ reference by differential IK (CLIK, damped least squares near singularities) and
 computed torque. The plant is MuJoCo built from the same robot file. The end-effector error is
 measured on MuJoCo's `ee_site`, against the line itself. Any arm: the line starts at the robot's
 work pose; unless given, its length is 20 % of the reach and its rotation 0.5 rad, along the first
-of a fixed list of directions whose line the IK can follow within the limits (sil/arm_rig.py).
+of a fixed list of directions whose line the IK can follow within the limits
+(scenarios/arm_targets.py).
 The loop runs in C++ (sil/native.py); `--set native=false` runs it per tick in Python, same log.
 """
 from __future__ import annotations
@@ -17,7 +18,8 @@ import kiloloop as kl
 
 from ..errors import configuring
 from ..sil.arm_adapters import CartesianTick
-from ..sil.arm_rig import ArmRig, joint_config, line_target, work_pose
+from ..sil.arm_rig import ArmRig, joint_config
+from .arm_targets import line_target, work_pose
 from ..sil.native import Observe
 from . import ScenarioResult, evaluate
 from .plots import ARM_LINE_PLOT

@@ -20,7 +20,8 @@ import kiloloop as kl
 from ..errors import InputError, configuring
 from ..sil import arm_scene
 from ..sil.arm_adapters import PressTick
-from ..sil.arm_rig import ArmRig, line_feasible, work_pose
+from ..sil.arm_rig import ArmRig
+from .arm_targets import line_feasible, work_pose
 from ..sil.log import SignalLog
 from . import JUDGED_WINDOW, ScenarioResult, evaluate
 from .plots import ARM_PRESS_PLOT
@@ -105,7 +106,7 @@ def press_pose(rig, settings) -> tuple[np.ndarray, float]:
     """(q0 [rad], slide [m]): a pose with the tool's z axis pointing down, from which the IK can
     follow the slide along +x: of the candidate tool positions (PRESS_RADII x PRESS_HEIGHTS, the
     IK seeded from the work pose), the one whose 6 x n Jacobian is best conditioned."""
-    from ..sil.arm_rig import PoseProbe
+    from .arm_targets import PoseProbe
 
     model = rig.model
     slide = float(settings["slide"]) or SLIDE * reach_of(rig)
@@ -152,7 +153,7 @@ def press_pose(rig, settings) -> tuple[np.ndarray, float]:
 
 
 def reach_of(rig) -> float:
-    from ..sil.arm_rig import reach
+    from .arm_targets import reach
 
     return reach(rig.plant)
 

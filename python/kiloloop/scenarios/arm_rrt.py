@@ -9,7 +9,8 @@ detection must report no contact with it. `--set planner=straight` skips plannin
 straight joint-space trapezoid instead, which hits the box (the pytest checks that it does).
 Any arm: from the work pose, the first joint turns by ROTATION (or back when its limits say so);
 the box stands on the floor under the tool's mid-path position, as high as the tool is there, and
-is shrunk until start and goal clear it by the margin (sil/arm_rig.py, this file's derive()).
+is shrunk until start and goal clear it by the margin (scenarios/arm_targets.py, this file's
+derive()).
 """
 from __future__ import annotations
 
@@ -20,7 +21,8 @@ import kiloloop as kl
 from ..errors import InputError
 from ..sil import arm_scene
 from ..sil.arm_adapters import JointTrackingTick
-from ..sil.arm_rig import ArmRig, controller, link_capsules, reach, work_pose
+from ..sil.arm_rig import ArmRig, controller
+from .arm_targets import link_capsules, reach, work_pose
 from ..sil.log import SignalLog
 from . import ScenarioResult, evaluate
 from .plots import ARM_RRT_PLOT
@@ -111,7 +113,7 @@ def derive_targets(robot, model, capsules, plant, settings) -> dict:
 def _floor_below_fixed_links(plant, capsules, margin: float) -> float:
     """[m] 0, or lower: just below the capsules of links that only a vertical first joint moves
     (their height is no choice of the planner; a conservative capsule may reach the floor)."""
-    from ..sil.arm_rig import PoseProbe
+    from .arm_targets import PoseProbe
 
     m, d = plant.model, plant.data
     fixed = {m.body(b).name for b in PoseProbe.height_fixed_bodies(plant)}

@@ -4,7 +4,7 @@ Computed torque by default; `--set controller=pd_gravity` runs joint PD + gravit
 the same trajectory for comparison (the same bandwidth on the diagonal of M at the start pose:
 the only difference is what computed torque adds). Any arm robot file: the start pose is the
 robot's work pose and the waypoints move each joint by half of its free range (at most 0.5 rad),
-clear of the floor (sil/arm_rig.py); a robot file's [scenario.arm-track] may give them.
+clear of the floor (scenarios/arm_targets.py); a robot file's [scenario.arm-track] may give them.
 The loop runs in C++ (sil/native.py); `--set native=false` runs it per tick in Python, same log.
 """
 from __future__ import annotations
@@ -15,7 +15,8 @@ import kiloloop as kl
 
 from ..errors import configuring
 from ..sil.arm_adapters import JointTrackingTick
-from ..sil.arm_rig import ArmRig, controller, joint_targets, work_pose
+from ..sil.arm_rig import ArmRig, controller
+from .arm_targets import joint_targets, work_pose
 from ..sil.native import Observe
 from . import ScenarioResult, evaluate
 from .plots import ARM_TRACK_PLOT

@@ -5,19 +5,19 @@ robot's mass), on estimated state with the non-idealities on: no fall, level tru
 tracked, feet do not slide. A standing foot sinks m g / (4 k): 43 mm for the 17.6 kg model."""
 from __future__ import annotations
 
-from ..sil import footholds
+from . import footholds
 from ..sil.quadruped_rig import COMMON_DEFAULTS
 from ..sil.terrain import Compliant
-from ..sil.terrain_trot import SETTLED, run_trot
+from .terrain_trot import SETTLED, run_trot
 from . import JUDGED_WINDOW, ScenarioResult, evaluate
 from .plots import QUADRUPED_PLOT
 
 NAME = "quadruped-compliant"
 DESCRIPTION = "trot 0.5 m/s on soft ground (1e3 N/m): no fall, roll/pitch, velocity, slip"
 DURATION = 10.0
-MIN_DURATION = SETTLED + JUDGED_WINDOW  # [s] metrics from SETTLED on (sil/terrain_trot.py)
+MIN_DURATION = SETTLED + JUDGED_WINDOW  # [s] metrics from SETTLED on (scenarios/terrain_trot.py)
 DEFAULTS = dict(COMMON_DEFAULTS, speed=0.5, stiffness=1e3, damping_ratio=1.0)
-# The flat trot's bounds (quadruped-trot), and no sliding foot (sil/terrain_trot.py).
+# The flat trot's bounds (quadruped-trot), and no sliding foot (scenarios/terrain_trot.py).
 CRITERIA = {"fell": ("<", 0.5), "roll_pitch_rms_deg": ("<", 3.0), "velocity_rms_error": ("<", 0.1),
             "max_slip_radii": ("<", 2.0)}
 

@@ -5,8 +5,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..sil.quadruped_rig import (COMMON_DEFAULTS, add_derived, fallen, push_event,
-                                 rig_from_settings, trot_command)
+from ..sil.quadruped_rig import COMMON_DEFAULTS, push_event, rig_from_settings
+from .quadruped_metrics import add_derived, fallen, trot_command
 from . import JUDGED_WINDOW, ScenarioResult, evaluate
 from .plots import QUADRUPED_PLOT
 

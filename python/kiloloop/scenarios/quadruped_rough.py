@@ -6,17 +6,17 @@ from __future__ import annotations
 
 from ..sil.quadruped_rig import COMMON_DEFAULTS
 from ..sil.terrain import Rough
-from ..sil.terrain_trot import SETTLED, run_trot
+from .terrain_trot import SETTLED, run_trot
 from . import JUDGED_WINDOW, ScenarioResult, evaluate
 from .plots import QUADRUPED_PLOT
 
 NAME = "quadruped-rough"
 DESCRIPTION = "trot 0.5 m/s over a random heightfield: no fall, roll/pitch, velocity, slip"
 DURATION = 10.0
-MIN_DURATION = SETTLED + JUDGED_WINDOW  # [s] metrics from SETTLED on (sil/terrain_trot.py)
+MIN_DURATION = SETTLED + JUDGED_WINDOW  # [s] metrics from SETTLED on (scenarios/terrain_trot.py)
 DEFAULTS = dict(COMMON_DEFAULTS, speed=0.5, amplitude_swing_heights=0.25,
                 bump_body_heights=1.0)
-# The flat trot's bounds (quadruped-trot), and no sliding foot (sil/terrain_trot.py).
+# The flat trot's bounds (quadruped-trot), and no sliding foot (scenarios/terrain_trot.py).
 CRITERIA = {"fell": ("<", 0.5), "roll_pitch_rms_deg": ("<", 3.0), "velocity_rms_error": ("<", 0.1),
             "max_slip_radii": ("<", 2.0)}
 

@@ -5,8 +5,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..sil.quadruped_rig import (COMMON_DEFAULTS, CommandSchedule, add_derived,
-                                 fallen, fell_early, heading_velocity, rig_from_settings)
+from ..sil.quadruped_rig import COMMON_DEFAULTS, CommandSchedule, rig_from_settings
+from .quadruped_metrics import add_derived, fallen, fell_early, heading_velocity
 from . import JUDGED_WINDOW, ScenarioResult, evaluate
 from .plots import QUADRUPED_PLOT
 

@@ -7,18 +7,18 @@ from __future__ import annotations
 
 from ..sil.quadruped_rig import COMMON_DEFAULTS
 from ..sil.terrain import Stones
-from ..sil.terrain_trot import SETTLED, run_trot
+from .terrain_trot import SETTLED, run_trot
 from . import JUDGED_WINDOW, ScenarioResult, evaluate
 from .plots import QUADRUPED_PLOT
 
 NAME = "quadruped-stones"
 DESCRIPTION = "trot 0.5 m/s over 0.3 m stepping stones at random heights: no fall, roll/pitch, velocity, slip"
 DURATION = 10.0
-MIN_DURATION = SETTLED + JUDGED_WINDOW  # [s] metrics from SETTLED on (sil/terrain_trot.py)
+MIN_DURATION = SETTLED + JUDGED_WINDOW  # [s] metrics from SETTLED on (scenarios/terrain_trot.py)
 DEFAULTS = dict(COMMON_DEFAULTS, speed=0.5, stone_size=0.3, gap=0.0,
                 spread_swing_heights=0.25)  # tops in +-0.25 swing heights
 # The flat trot's bounds (quadruped-trot): the stones may shake the trunk and slow it, but not
-# beyond what the trot is allowed on flat ground. Slip: see sil/terrain_trot.py (1 radius of
+# beyond what the trot is allowed on flat ground. Slip: see scenarios/terrain_trot.py (1 radius of
 # travel = rolling twice as far as a stance sweeps; beyond 2 a foot has slid).
 CRITERIA = {"fell": ("<", 0.5), "roll_pitch_rms_deg": ("<", 3.0), "velocity_rms_error": ("<", 0.1),
             "max_slip_radii": ("<", 2.0)}

@@ -4,8 +4,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..sil.quadruped_rig import (COMMON_DEFAULTS, add_derived, push_event,
-                                 rig_from_settings, stand_command)
+from ..sil.quadruped_rig import COMMON_DEFAULTS, push_event, rig_from_settings, stand_command
+from .quadruped_metrics import add_derived
 from . import JUDGED_WINDOW, ScenarioResult, evaluate
 from .plots import QUADRUPED_PLOT
 

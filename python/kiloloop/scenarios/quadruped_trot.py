@@ -4,8 +4,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..sil.quadruped_rig import (COMMON_DEFAULTS, add_derived, fell_early,
-                                 rig_from_settings, trot_command, trot_metrics)
+from ..sil.quadruped_rig import COMMON_DEFAULTS, rig_from_settings
+from .quadruped_metrics import add_derived, fell_early, trot_command, trot_metrics
 from . import JUDGED_WINDOW, ScenarioResult, evaluate
 from .plots import QUADRUPED_PLOT
 

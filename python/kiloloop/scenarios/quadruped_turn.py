@@ -5,8 +5,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..sil.quadruped_rig import (COMMON_DEFAULTS, CommandSchedule, add_derived,
-                                 fell_early, rig_from_settings, trot_metrics)
+from ..sil.quadruped_rig import COMMON_DEFAULTS, CommandSchedule, rig_from_settings
+from .quadruped_metrics import add_derived, fell_early, trot_metrics
 from . import JUDGED_WINDOW, ScenarioResult, evaluate
 from .plots import QUADRUPED_PLOT
 

@@ -8,8 +8,8 @@ import numpy as np
 
 from ...errors import InputError
 from ...sil import native
-from ...sil.aerial_rig import (COMMON_DEFAULTS, Push, RotorFault, rig_from_settings,
-                               rotation_vector_error)
+from ...sil.aerial_rig import COMMON_DEFAULTS, Push, RotorFault, rig_from_settings
+from ..aerial_metrics import rotation_vector_error
 from ...sil.aerial_signals import reference_row
 from . import common
 from .events import Payload

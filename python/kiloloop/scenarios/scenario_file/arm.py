@@ -11,7 +11,8 @@ import kiloloop as kl
 from ...errors import InputError
 from ...sil import native
 from ...sil.arm_adapters import JointTrackingTick, SupervisedTick
-from ...sil.arm_rig import ArmRig, controller, work_pose
+from ...sil.arm_rig import ArmRig, controller
+from ..arm_targets import work_pose
 from ...sil.urdf_import import rpy_matrix
 from . import common
 from .events import Estop, Payload, Push

@@ -8,13 +8,13 @@ from __future__ import annotations
 import numpy as np
 
 from ...errors import InputError
-from ...sil.quadruped_rig import (COMMON_DEFAULTS, CommandSchedule, fell_early, heading_velocity,
-                                  rig_from_settings, roll_pitch)
+from ...sil.quadruped_rig import COMMON_DEFAULTS, CommandSchedule, rig_from_settings
+from ..quadruped_metrics import fell_early, heading_velocity, roll_pitch
 from . import common
 from .events import Payload, Push
 
 DEFAULTS = dict(COMMON_DEFAULTS)
-FALL_TILT_DEG = 45.0  # [deg] past this the trunk has fallen over (sil/quadruped_rig.fallen)
+FALL_TILT_DEG = 45.0  # [deg] past this the trunk has fallen over (quadruped_metrics.fallen)
 JOINTS = 12
 
 

@@ -5,7 +5,8 @@ from __future__ import annotations
 import numpy as np
 
 from . import footholds
-from .quadruped_rig import add_derived, fell_early, rig_from_settings, trot_command, trot_metrics
+from ..sil.quadruped_rig import rig_from_settings
+from .quadruped_metrics import add_derived, fell_early, trot_command, trot_metrics
 
 START = 0.5     # [s] standing before the trot command
 SETTLED = 2.0   # [s] metrics from here on (the command ramps at 1 m/s^2)
