@@ -1,8 +1,8 @@
 """SIL rig for arms: the MuJoCo plant built from a robot file + the 1 kHz loop + video.
 
 One shape for every family (plant / rig / adapter / scenario): this file builds the plant from
-the robot (only the controlled chain actuated, everything else welded, meshes resolved), derives
-what needs the plant's geometry (reach, a well-conditioned work pose) and runs the loop; the
+the robot (only the controlled chain actuated, everything else welded, meshes resolved) and runs
+the loop (what the scenarios derive from the plant's geometry: scenarios/arm_targets.py); the
 adapters (sil/arm_adapters.py) map measurements onto one compiled controller; the scenarios
 script the motion and judge the log. No control logic here.
 """
