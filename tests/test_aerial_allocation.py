@@ -3,7 +3,7 @@
 import numpy as np
 
 import kiloloop as kl
-from kiloloop.sil.aerial_rig import rotor_config
+from kiloloop.sil.aerial_family import rotor_config
 
 
 def test_unsaturated_wrench_is_reproduced_exactly(rng):

@@ -7,7 +7,7 @@ import pytest
 import kiloloop as kl
 from kiloloop.sil.aerial_crosscheck import inverse_dynamics_crosscheck
 from kiloloop.sil.aerial_plant import AerialPlant
-from kiloloop.sil.aerial_rig import aerial_paths, load_robot
+from kiloloop.sil.aerial_family import aerial_paths, load_robot
 
 
 @pytest.fixture(scope="module")

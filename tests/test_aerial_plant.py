@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 from kiloloop.sil.aerial_plant import AerialPlant
-from kiloloop.sil.aerial_rig import load_robot
+from kiloloop.sil.aerial_family import load_robot
 
 
 @pytest.fixture

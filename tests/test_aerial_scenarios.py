@@ -8,7 +8,7 @@ import pytest
 
 import kiloloop as kl
 from kiloloop import cli, scenarios
-from kiloloop.sil.aerial_rig import aerial_paths, rotor_config
+from kiloloop.sil.aerial_family import aerial_paths, rotor_config
 
 
 def run(name, **overrides):

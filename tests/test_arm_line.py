@@ -34,7 +34,7 @@ def test_end_effector_ends_on_the_line_end(default_run):
 
 
 def test_one_tick_delay_still_within_a_millimetre(default_run):
-    r = run(delay_ticks=1)
+    r = run(measurement_delay=0.001)
     assert r.passed and r.metrics["failed_ticks"] == 0
     assert r.metrics["max_ee_error_m"] > default_run.metrics["max_ee_error_m"]
 

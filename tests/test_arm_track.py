@@ -34,7 +34,7 @@ def test_pd_gravity_tracks_far_worse_than_computed_torque(computed_torque):
 def test_one_tick_measurement_delay_costs_about_one_tick_of_motion(computed_torque):
     # The controller acts on q from 1 ms ago: the error grows to about |qd| * 1 ms (~1 mrad
     # here), stays bounded, and the loop stays stable.
-    r = run(delay_ticks=1)
+    r = run(measurement_delay=0.001)
     assert r.metrics["failed_ticks"] == 0
     assert computed_torque.metrics["max_joint_error_rad"] < r.metrics["max_joint_error_rad"] < 3e-3
 

@@ -42,7 +42,7 @@ def test_duration_that_is_no_duration(capsys, value):
     (["run", "no-such-scenario"], ["unknown scenario 'no-such-scenario'"]),
     (["run", "arm-track", "--set", "controller.kp=abc"], ["controller.kp", "'abc'", "robot.toml"]),
     (["run", "arm-track", "--set", "t_1=nan"], ["t_1", "finite"]),
-    (["run", "arm-track", "--set", "delay_ticks=1.5"], ["delay_ticks", "whole number"]),
+    (["run", "arm-track", "--set", "measurement_delay=abc"], ["measurement_delay", "'abc'"]),
     (["run", "arm-track", "--set", "controller.kp=-5", "--duration", "0.1"], ["kp"]),
     (["run", "arm-track", "--set", "physics_dt=0.0007", "--duration", "0.1"], ["physics"]),
     (["run", "arm-press", "--set", "controller=hybird"], ["controller", "'hybird'"]),
@@ -54,7 +54,8 @@ def test_duration_that_is_no_duration(capsys, value):
     (["run", "arm-track", "--set", "t_1=5", "--set", "t_2=1"], ["t_1, t_2", "increasing"]),
     (["run", "arm-estop", "--set", "velocity_scale=0"], ["velocity_scale", "> 0"]),
     (["sweep", "arm-track", "--grid", "damping=0,abc", "--duration", "0.2"], ["damping", "'abc'"]),
-    (["sweep", "arm-track", "--grid", "delay_ticks=0,-1", "--duration", "0.2"], ["delay_ticks"]),
+    (["sweep", "arm-track", "--grid", "measurement_delay=0,-1", "--duration", "0.2"],
+     ["measurement_delay"]),
     (["export", "ur5", "--out", "unused", "--set", "controller.kd=x"], ["controller.kd"]),
     (["b2b", "ur5", "--duration", "nan"], ["--duration"]),
     (["b2b", "ur5", "--seed", "x"], ["--seed"]),
@@ -210,7 +211,7 @@ def test_arm_estop_minimum_is_derived_from_its_own_motion():
     # The e-stop (given, or half-way through the motion), then the planned stop from cruise
     # speed: the default duration (3 s) is above it; an e-stop given later moves it by as much.
     robot, settings = scenarios.prepare(arm_estop)
-    rig = arm_estop.ArmRig(robot)
+    rig = arm_estop.Rig(robot)
     _, _, trajectory, t_estop, cruise = arm_estop.motion(rig, settings)
     minimum = scenarios.min_duration(arm_estop, settings, robot)
     given = settings["t_estop"]  # the UR5's robot file gives it; < 0: half-way

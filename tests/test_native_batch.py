@@ -1,4 +1,4 @@
-"""Batch rollouts (sil/batch.py): each rollout its own MjData and controller, C++ threads, the GIL
+"""Batch rollouts (sil/batch.py) and scenario runs (scenarios/batch.py): each rollout its own MjData and controller, C++ threads, the GIL
 released; the logs do not depend on the thread count and equal single runs."""
 import mujoco
 import numpy as np
@@ -8,8 +8,11 @@ import kiloloop as kl
 from kiloloop import scenarios
 from kiloloop.scenarios import arm_track
 from kiloloop.sil import batch, native
-from kiloloop.sil.arm_adapters import JointTrackingTick
-from kiloloop.sil.arm_rig import ArmRig, controller
+from kiloloop.scenarios.arm_controllers import controller
+from kiloloop.scenarios.batch import run_scenarios
+from kiloloop.sil.arm_adapters import JointTracking
+from kiloloop.sil.rig import Rig
+from kiloloop.sil.signals import Signals
 
 pytestmark = pytest.mark.skipif(not native.available(), reason="built without the native loop")
 
@@ -18,7 +21,7 @@ def make_rollouts(count, duration=0.3):
     """`count` arm-track rollouts on one plant model, each with its own MjData, controller and
     seed (sensor noise on, so that the seeds matter)."""
     robot, settings = scenarios.prepare(arm_track)
-    rig = ArmRig(robot)
+    rig = Rig(robot, Signals(q_sigma=1e-4))
     points = arm_track.waypoints(rig, settings)
     rig.plant.q0 = points[0]
     rig.plant.reset()
@@ -27,10 +30,9 @@ def make_rollouts(count, duration=0.3):
     for seed in range(count):
         data = mujoco.MjData(rig.plant.model)
         mujoco.mj_copyData(data, rig.plant.model, rig.plant.data)
-        tick = JointTrackingTick(controller(robot, rig.model, "computed_torque", points[0]), traj)
-        out.append(native.rollout(rig.plant, tick.native_adapter(), duration, data=data,
-                                  nonideal=native.NonIdeal(q_sigma=1e-4, seed=seed),
-                                  observe=native.Observe("q_true")))
+        reference = JointTracking(controller(robot, rig.model, "computed_torque", points[0]), traj)
+        out.append(rig.rollout(duration, reference, data=data, seed=seed,
+                               observe=native.Observe("q_true")))
     return out
 
 
@@ -51,15 +53,10 @@ def test_batch_entry_points_on_kl_sil():
     assert all(r.ok for r in rollouts)
 
 
-def test_sweep_uses_threads_for_native_scenarios():
-    assert batch.native_capable("arm-track")
-    assert not batch.native_capable("arm-track", sets=["native=false"])
-    assert batch.native_capable("aerial-hover")  # native since the aerial adapter
-    assert not batch.native_capable("aerial-hover", grid={"native": ["true", "false"]})
-    assert not batch.native_capable("arm-press")  # reads the force sensor per tick in Python
-    results = batch.run_scenarios("arm-track", [{"params": {"damping": "0"}, "duration": 0.2},
-                                                {"params": {"damping": "bad"}, "duration": 0.2}],
-                                  threads=2)
+def test_scenario_runs_on_threads_capture_each_failure():
+    results = run_scenarios("arm-track", [{"params": {"damping": "0"}, "duration": 0.2},
+                                          {"params": {"damping": "bad"}, "duration": 0.2}],
+                            threads=2)
     assert results[0]["metrics"]["ticks"] == 200
     assert not results[1]["passed"] and results[1]["reason"].startswith("error: InputError")
 

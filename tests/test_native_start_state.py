@@ -8,7 +8,9 @@ import pytest
 import kiloloop as kl
 from kiloloop.robot import Robot
 from kiloloop.sil import batch, native
-from kiloloop.sil.arm_rig import ArmRig, controller
+from kiloloop.scenarios.arm_controllers import controller
+from kiloloop.sil.arm_adapters import JointTracking
+from kiloloop.sil.rig import Rig
 
 pytestmark = pytest.mark.skipif(not native.available(), reason="built without the native loop")
 
@@ -18,7 +20,7 @@ DURATION = 0.05  # [s]
 @pytest.fixture(scope="module")
 def ur5():
     robot = Robot.load("ur5")
-    return robot, ArmRig(robot)
+    return robot, Rig(robot)
 
 
 def make(ur5, data):
@@ -26,9 +28,8 @@ def make(ur5, data):
     robot, rig = ur5
     q0 = rig.plant.q0
     traj = kl.QuinticTrajectory(np.array([q0, q0]), np.array([0.0, 1.0]))
-    adapter = native.joint_tracking_adapter(controller(robot, rig.model, "computed_torque", q0),
-                                            traj)
-    return native.rollout(rig.plant, adapter, DURATION, data=data)
+    reference = JointTracking(controller(robot, rig.model, "computed_torque", q0), traj)
+    return rig.rollout(DURATION, reference, data=data)
 
 
 def test_a_new_mjdata_starts_where_the_plant_is(ur5):

@@ -143,9 +143,9 @@ def test_payload_adds_the_point_masses_gravity(tmp_path):
     import mujoco
 
     from kiloloop.scenarios.scenario_file.common import attach_payload
-    from kiloloop.sil.arm_rig import ArmRig
+    from kiloloop.sil.rig import Rig
 
-    plant = ArmRig(kl.Robot.load("ur5")).plant
+    plant = Rig(kl.Robot.load("ur5")).plant
     m, d = plant.model, plant.data
     d.qpos[plant.qpos_addresses] = [0.3, -1.0, 1.2, -1.4, -1.5, 0.4]
     d.qvel[:] = 0
@@ -222,7 +222,9 @@ def test_sweep_and_batch_take_a_file(tmp_path, capsys):
                           "--duration", "1.0", "--out", str(tmp_path / "sw")], capsys)
     assert rc == 0, out
     assert "2/2 passed" in out
-    runs = kl.sil.run_scenarios(str(path), [{"params": {"controller.bandwidth": "30"},
+    from kiloloop.scenarios.batch import run_scenarios
+
+    runs = run_scenarios(str(path), [{"params": {"controller.bandwidth": "30"},
                                              "duration": 1.0}], threads=1)
     assert runs[0]["passed"], runs[0]
 

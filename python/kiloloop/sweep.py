@@ -3,9 +3,8 @@
     kiloloop sweep aerial-hover --grid att_kp=200,400,800 --grid gyro_sigma=0.01,0.05 --workers 2
     kiloloop sweep arm-track --grid damping=0,0.5,1 --backend ray
 
-Backends: `local` (default) runs a native-capable scenario (its loop in C++, sil/native.py) on a
-pool of threads (sil/batch.py: the loops overlap with the GIL released) and any other scenario on
-a pool of processes; `ray` sends every run to a Ray cluster as one task (RAY_ADDRESS, or a local
+Backends: `local` (default) runs on a pool of threads (sil/batch.py: every scenario's loop is in
+C++ with the GIL released, so the loops overlap; the Python set-up and metrics take turns); `ray` sends every run to a Ray cluster as one task (RAY_ADDRESS, or a local
 Ray instance started for the sweep; `pip install 'kiloloop[ray]'`). Every backend calls the same
 `run_one`, so the same seeds give the same rows.
 
@@ -21,19 +20,16 @@ import csv
 import itertools
 import os
 import sys
-from concurrent.futures import ProcessPoolExecutor, as_completed
-from concurrent.futures.process import BrokenProcessPool
 from pathlib import Path
 
 from . import scenarios
-from .sil.batch import native_capable, run_one, run_scenarios  # noqa: F401  (sweep.run_one)
-from .sil.batch import overrides_of as _overrides
+from .errors import InputError
+from .scenarios.batch import run_one, run_scenarios  # noqa: F401  (sweep.run_one)
+from .scenarios.batch import overrides_of as _overrides
 
 
 def parse_grid(items: list[str]) -> dict[str, list[str]]:
     """["k=v1,v2", ...] -> {"k": ["v1", "v2"]} (values stay strings: the scenario converts them)."""
-    from .errors import InputError
-
     grid: dict[str, list[str]] = {}
     for item in items:
         if "=" not in item:
@@ -92,33 +88,17 @@ def run_sweep(scenario: str, grid: dict[str, list[str]], workers: int | None = N
     workers = max(1, int(workers or os.cpu_count() or 1))
     if backend == "ray":
         return _run_ray(scenario, combos, workers, seed, duration, robot, sets, stream)
-    if native_capable(scenario, sets, grid):
-        counter = {"done": 0, "failed": 0}
-        _progress(0, len(combos), 0, stream)
-
-        def on_done(_i, result):
-            counter["done"] += 1
-            counter["failed"] += not result["passed"]
-            _progress(counter["done"], len(combos), counter["failed"], stream)
-
-        runs = [{"params": p, "seed": seed, "duration": duration, "robot": robot, "sets": sets}
-                for p in combos]
-        return run_scenarios(scenario, runs, threads=workers, on_done=on_done)
-    results: list[dict | None] = [None] * len(combos)
-    failed = 0
+    counter = {"done": 0, "failed": 0}
     _progress(0, len(combos), 0, stream)
-    with ProcessPoolExecutor(max_workers=workers) as pool:
-        futures = {pool.submit(run_one, scenario, p, seed, duration, robot, sets): i for i, p in enumerate(combos)}
-        for done, future in enumerate(as_completed(futures), 1):
-            i = futures[future]
-            try:
-                results[i] = future.result()
-            except BrokenProcessPool as e:  # the worker process itself died (e.g. a crash)
-                results[i] = {"params": combos[i], "passed": False, "metrics": {},
-                              "reason": f"worker died: {e}", "wall_s": float("nan")}
-            failed += not results[i]["passed"]
-            _progress(done, len(combos), failed, stream)
-    return results  # type: ignore[return-value]
+
+    def on_done(_i, result):
+        counter["done"] += 1
+        counter["failed"] += not result["passed"]
+        _progress(counter["done"], len(combos), counter["failed"], stream)
+
+    runs = [{"params": p, "seed": seed, "duration": duration, "robot": robot, "sets": sets}
+            for p in combos]
+    return run_scenarios(scenario, runs, threads=workers, on_done=on_done)
 
 
 def _run_ray(scenario, combos, workers, seed, duration, robot, sets, stream) -> list[dict]:

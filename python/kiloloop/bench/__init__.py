@@ -61,9 +61,9 @@ def sil_benchmark(quick: bool, robot=None) -> dict:
     the raw mj_step it costs."""
     from .. import scenarios
     from ..scenarios import arm_track
-    from ..sil.arm_adapters import JointTrackingTick
-    from ..sil.arm_rig import ArmRig, controller
-    from ..sil.loop import LoopSettings, run_loop
+    from ..scenarios.arm_controllers import controller
+    from ..sil.arm_adapters import JointTracking
+    from ..sil.rig import Rig
 
     duration = 1.0 if quick else arm_track.DURATION
     robot_obj, settings = scenarios.prepare(arm_track, robot)
@@ -73,7 +73,7 @@ def sil_benchmark(quick: bool, robot=None) -> dict:
     ticks = result.metrics["ticks"]
 
     # The same loop without scenario set-up (URDF load, MjSpec compile) and post-processing.
-    rig = ArmRig(robot_obj)
+    rig = Rig(robot_obj)
     plant = rig.plant
     raw_step = _raw_mj_step_seconds(plant, ticks)
     s = result.settings
@@ -81,9 +81,9 @@ def sil_benchmark(quick: bool, robot=None) -> dict:
     plant.q0 = points[0]
     plant.reset()
     traj = kl.QuinticTrajectory(points, np.array([0.0, s["t_1"], s["t_2"]]))
-    tick = JointTrackingTick(controller(robot_obj, rig.model, "computed_torque", points[0]), traj)
+    reference = JointTracking(controller(robot_obj, rig.model, "computed_torque", points[0]), traj)
     start = time.perf_counter()
-    run_loop(plant, tick, LoopSettings(duration=duration))
+    rig.run(duration, reference)
     loop_wall = time.perf_counter() - start
     tick_cost = loop_wall / ticks
     # Tracking figures of both joint controllers on the same trajectory (full duration).
@@ -109,17 +109,21 @@ def sil_benchmark(quick: bool, robot=None) -> dict:
 
 
 def rig_sil_timing(scenario: str, rig, command, quick: bool, **run_kwargs) -> dict:
-    """Runs a SIL rig (it owns plant, controller, input, output) for a few simulated seconds: real-time
-    factor, tick cost against one raw mj_step of the same model, and the controller's step called
-    from Python on the rig's own input/output structs. run_kwargs go to rig.run (native=False:
-    the per-tick Python loop of a rig that runs natively by default)."""
+    """Runs a SIL rig for a few simulated seconds, Python's set-up of the run included: real-time
+    factor, tick cost against one raw mj_step of the same model (both wall clock; the native
+    bench has CPU-time figures of the loop alone), and the rig's controller's step called from
+    Python. run_kwargs go to rig.run."""
     duration = 2.0 if quick else 10.0
     start = time.perf_counter()
     log = rig.run(duration, command, **run_kwargs)
     wall = time.perf_counter() - start
     ticks = len(log["t"])
     raw = _raw_mj_step_seconds(rig.plant, ticks)
-    controller, inp, out = rig.controller, rig.input, rig.output
+    controller = rig.controller
+    if hasattr(controller, "make_input"):
+        inp, out = controller.make_input(), controller.make_output()
+    else:
+        inp, out = kl.QuadrupedInput(), kl.QuadrupedOutput()
     calls = 2000 if quick else 20000
     start = time.perf_counter()
     for k in range(calls):
@@ -133,16 +137,14 @@ def rig_sil_timing(scenario: str, rig, command, quick: bool, **run_kwargs) -> di
 
 
 def quadruped_sil_benchmark(quick: bool) -> dict:
-    """Real-time factor of quadruped-trot (non-idealities on) in the per-tick Python loop and its
-    tick cost vs raw mj_step."""
+    """Real-time factor of quadruped-trot (non-idealities on) through the rig and its tick cost
+    vs raw mj_step."""
     from ..scenarios import parse_settings, quadruped_trot
-    from ..sil.quadruped_rig import rig_from_settings
+    from ..scenarios.quadruped_settings import rig_from_settings
 
     settings = parse_settings(quadruped_trot.DEFAULTS, None)
     rig = rig_from_settings(settings, seed=0)
-    # The per-tick Python loop (the native one: sil_native.quadruped).
-    return rig_sil_timing("quadruped-trot", rig, quadruped_trot.trot_command(settings["speed"]), quick,
-                          native=False)
+    return rig_sil_timing("quadruped-trot", rig, quadruped_trot.trot_command(settings["speed"]), quick)
 
 
 def _print_core(core: dict) -> None:

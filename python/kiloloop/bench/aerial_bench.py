@@ -21,12 +21,11 @@ def core_aerial(quick: bool) -> dict:
 
 def sil_aerial(quick: bool) -> dict:
     from ..scenarios import aerial_hover, parse_settings
-    from ..sil.aerial_rig import rig_from_settings
+    from ..scenarios.aerial_settings import rig_from_settings
     from . import rig_sil_timing
 
     rig = rig_from_settings(parse_settings(aerial_hover.DEFAULTS, None), seed=0)
-    # The per-tick Python loop (the native one: sil_native.aerial).
-    return rig_sil_timing("aerial-hover", rig, aerial_hover.hold(rig), quick, native=False)
+    return rig_sil_timing("aerial-hover", rig, aerial_hover.hold(rig), quick)
 
 
 def run_aerial_bench(quick: bool) -> dict:

@@ -2,7 +2,7 @@
 the default aerial manipulator, its native tick against raw mj_step replaying the commands the
 rotors and arm motors received in that run (same start state, same motion), the adapter +
 controller alone, real-time factors on one core and on all cores, the 8-rollout batch on 1 and 2
-threads, and the per-tick Python loop beside it. Same conventions as the arm and quadruped rows
+threads. Same conventions as the arm and quadruped rows
 (native_bench.py), the figure code shared with them (native_timing.py): CPU time of the calling
 thread, least of REPEATS runs."""
 from __future__ import annotations
@@ -14,30 +14,28 @@ import numpy as np
 
 import kiloloop as kl
 
-from .native_timing import (BATCH, REPEATS, batch_figures, python_figures, tick_figures,
-                            timed_ticks_and_raw)
+from .native_timing import REPEATS, batch_figures, tick_figures, timed_ticks_and_raw
 
 
 def _setup():
     from ..scenarios import aerial_hover, parse_settings
-    from ..sil.aerial_rig import reference_table, rig_from_settings
     from ..scenarios.aerial_metrics import hold
+    from ..scenarios.aerial_settings import rig_from_settings
 
     rig = rig_from_settings(parse_settings(aerial_hover.DEFAULTS, None), seed=0)
-    command = hold(rig)
-    return rig, command, reference_table
+    return rig, hold(rig)
 
 
-def _rollouts(rig, command, table_fn, count: int, duration: float) -> list:
+def _rollouts(rig, command, count: int, duration: float) -> list:
     from ..sil import native
 
-    table = table_fn(rig.controller, command, native.ticks_of(duration))
+    ticks = native.ticks_of(duration)
     out = []
     for seed in range(count):
         data = mujoco.MjData(rig.plant.model)
         mujoco.mj_copyData(data, rig.plant.model, rig.plant.data)
-        adapter = rig.native_adapter(table, kl.AerialController(rig.model, rig.config))
-        out.append(rig.native_rollout(duration, command, data=data, adapter=adapter, seed=seed))
+        adapter = rig.adapter(command, kl.AerialController(rig.model, rig.config), ticks)
+        out.append(rig.rollout(duration, command, data=data, adapter=adapter, seed=seed))
     return out
 
 
@@ -45,7 +43,7 @@ def _applied_commands(rig, log: dict) -> np.ndarray:
     """What reached the actuators in a native run: [thrust; tau (plant order)] through the
     transport delay (the first command held until it arrives)."""
     u = np.concatenate([log["thrust_cmd"], log["tau"][:, rig.to_plant]], axis=1)
-    d = rig.signals.motor_delay_ticks
+    d = rig.family.motor(rig.parts, rig.signals).delay_ticks
     applied = np.empty_like(u)
     applied[d:] = u[:len(u) - d]
     applied[:d] = u[0]
@@ -56,40 +54,26 @@ def aerial_native(quick: bool) -> dict:
     from ..sil import native
 
     duration = 1.0 if quick else 4.0
-    rig, command, table_fn = _setup()
+    rig, command = _setup()
     ticks = native.ticks_of(duration)
     assert round(0.001 / rig.plant.timestep) == 1, "raw replay assumes one physics step per tick"
     actuators = [int(a) for a in rig.plant._rotor_act] + [int(a) for a in rig.plant._act]
     tick_cpu, tick_wall, raw_cpu, raw_wall = timed_ticks_and_raw(
-        lambda: _rollouts(rig, command, table_fn, 1, duration)[0],
+        lambda: _rollouts(rig, command, 1, duration)[0],
         lambda log: _applied_commands(rig, log), rig.plant, ticks, actuators)
     # The adapter + controller alone on the start measurement (hovering, no physics).
-    addr, source = rig.measurement()
+    m = rig.family.measurement(rig.parts, rig.signals, rig.seed, command)
     d = rig.plant.data
-    y = np.array([(d.sensordata, d.qpos, d.qvel)[s][a] for a, s in zip(addr, source)])
-    table = table_fn(rig.controller, command, ticks)
+    y = np.array([(d.sensordata, d.qpos, d.qvel)[s][a] for a, s in zip(m.addresses, m.sources)])
     ctrl_cpu = []
     for _ in range(REPEATS):
-        adapter = rig.native_adapter(table, kl.AerialController(rig.model, rig.config))
+        adapter = rig.adapter(command, kl.AerialController(rig.model, rig.config), ticks)
         c0 = time.thread_time()
         native._native.step_adapter(adapter, y, ticks)
         ctrl_cpu.append(time.thread_time() - c0)
     controller = min(ctrl_cpu) / ticks
 
-    batches = batch_figures(lambda n: _rollouts(rig, command, table_fn, n, duration), duration)
-
-    py_duration = min(duration, 1.0)
-    py_ticks = native.ticks_of(py_duration)
-
-    def python_loop() -> tuple[float, float]:
-        rig.plant.reset()
-        c0, w0 = time.thread_time(), time.perf_counter()
-        rig.run(py_duration, command, native=False)
-        return time.thread_time() - c0, time.perf_counter() - w0
-
-    py_runs = [python_loop() for _ in range(REPEATS)]
-    rig.plant.reset()
+    batches = batch_figures(lambda n: _rollouts(rig, command, n, duration), duration)
     ticking = tick_figures(duration, ticks, 1, rig.plant.timestep, raw_cpu, raw_wall, tick_cpu,
                            tick_wall, controller)
-    return {"scenario": "aerial-hover", "robot": rig.robot.name, **ticking, **batches,
-            **python_figures(py_runs, py_duration, py_ticks, ticking["raw_mj_step_us"])}
+    return {"scenario": "aerial-hover", "robot": rig.robot.name, **ticking, **batches}

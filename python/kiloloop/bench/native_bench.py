@@ -1,8 +1,8 @@
 """Native SIL figures for `kiloloop bench` (`sil_native` in --json): per family, the native tick
 against one raw `mj_step` of the same model (both called from C++), the real-time factor on one
 core and on all cores (a batch on one thread per core), the batch speed-up of 2 threads over 1,
-and the per-tick Python loop's figures beside them (the quadruped row: native_quadruped_bench.py,
-with the gym environment's steps per second; the aerial row: native_aerial_bench.py). A family
+(the quadruped row: native_quadruped_bench.py, with the gym environment's steps per second; the
+aerial row: native_aerial_bench.py). A family
 reports null when the bench runs on another robot file (`--robot`: the arm row only).
 
 Timing is taken around whole C++ calls (the loop itself reads no clock). Costs per tick and per
@@ -22,18 +22,18 @@ import kiloloop as kl
 
 from .native_aerial_bench import aerial_native
 from .native_quadruped_bench import quadruped_native
-from .native_timing import (REPEATS, batch_figures, python_figures, tick_figures,
-                            timed_ticks_and_raw)
+from .native_timing import REPEATS, batch_figures, tick_figures, timed_ticks_and_raw
 
 
 def _arm_track_setup(robot=None):
     """(robot, rig, points, trajectory, controller factory) of arm-track on an arm robot file."""
     from .. import scenarios
     from ..scenarios import arm_track
-    from ..sil.arm_rig import ArmRig, controller
+    from ..scenarios.arm_controllers import controller
+    from ..sil.rig import Rig
 
     robot_obj, settings = scenarios.prepare(arm_track, robot)
-    rig = ArmRig(robot_obj)
+    rig = Rig(robot_obj)
     points = arm_track.waypoints(rig, settings)
     rig.plant.q0 = points[0]
     rig.plant.reset()
@@ -47,27 +47,26 @@ def _arm_track_setup(robot=None):
 def _rollouts(rig, traj, make, count: int, duration: float) -> list:
     """`count` arm-track rollouts on the rig's model, each with its own MjData and controller."""
     from ..sil import native
-    from ..sil.arm_adapters import JointTrackingTick
+    from ..sil.arm_adapters import JointTracking
 
     out = []
     for _ in range(count):
         data = mujoco.MjData(rig.plant.model)
         mujoco.mj_copyData(data, rig.plant.model, rig.plant.data)
-        tick = JointTrackingTick(make(), traj)
-        out.append(native.rollout(rig.plant, tick.native_adapter(), duration, data=data,
-                                  observe=native.Observe("q_true", "ee")))
+        out.append(rig.rollout(duration, JointTracking(make(), traj), data=data,
+                               observe=native.Observe("q_true", "ee")))
     return out
 
 
 def arm_native(quick: bool, robot=None) -> dict:
     from ..sil import native
-    from ..sil.arm_adapters import JointTrackingTick
-    from ..sil.loop import LoopSettings, run_loop
+    from ..sil.arm_adapters import JointTracking
+    from ..sil.timing import substeps as substeps_of
 
     duration = 1.0 if quick else 4.5
     robot_obj, rig, traj, make = _arm_track_setup(robot)
     ticks = native.ticks_of(duration)
-    substeps = LoopSettings(duration=duration).substeps(rig.plant.timestep)
+    substeps = substeps_of(rig.plant.timestep)
 
     # The physics timestep equals the control period here (the raw replay's one step a tick).
     assert substeps == 1, "raw replay assumes one physics step per control tick"
@@ -79,30 +78,15 @@ def arm_native(quick: bool, robot=None) -> dict:
     ctrl_cpu = []
     y = np.concatenate([rig.plant.q(), rig.plant.qd()])
     for _ in range(REPEATS):
-        adapter = JointTrackingTick(make(), traj).native_adapter()
+        adapter = JointTracking(make(), traj).native_adapter()
         c0 = time.thread_time()
         native._native.step_adapter(adapter, y, ticks)
         ctrl_cpu.append(time.thread_time() - c0)
     controller = min(ctrl_cpu) / ticks
     batches = batch_figures(lambda n: _rollouts(rig, traj, make, n, duration), duration)
-
-    # The per-tick Python loop on the same controller and trajectory (sil/loop.py).
-    py_duration = min(duration, 1.0)
-    py_ticks = native.ticks_of(py_duration)
-
-    def python_loop() -> tuple[float, float]:
-        rig.plant.reset()
-        tick_fn = JointTrackingTick(make(), traj)
-        c0, w0 = time.thread_time(), time.perf_counter()
-        run_loop(rig.plant, tick_fn, LoopSettings(duration=py_duration),
-                 observe=native.Observe("q_true", "ee"))
-        return time.thread_time() - c0, time.perf_counter() - w0
-
-    py_runs = [python_loop() for _ in range(REPEATS)]
     ticking = tick_figures(duration, ticks, substeps, rig.plant.timestep, raw_cpu, raw_wall,
                            tick_cpu, tick_wall, controller)
-    return {"scenario": "arm-track", "robot": robot_obj.name, **ticking, **batches,
-            **python_figures(py_runs, py_duration, py_ticks, ticking["raw_mj_step_us"])}
+    return {"scenario": "arm-track", "robot": robot_obj.name, **ticking, **batches}
 
 
 def run_native_bench(quick: bool, robot=None) -> dict:
@@ -116,7 +100,7 @@ def run_native_bench(quick: bool, robot=None) -> dict:
 
 
 def print_native_bench(r: dict) -> None:
-    print("Native SIL (C++ closed loop on the plant's MuJoCo model; Python loop beside it)")
+    print("Native SIL (the C++ closed loop on the plant's MuJoCo model)")
     if not r.get("available"):
         print("  not built (no mujoco wheel at configure time)")
         return
@@ -128,16 +112,13 @@ def print_native_bench(r: dict) -> None:
         print(f"  {family}: {a['scenario']} on {a['robot']}, {a['sim_seconds']} s simulated; "
               f"CPU time, least of {REPEATS}")
         print(f"    raw mj_step (from C++)              {a['raw_mj_step_us']:8.2f} us")
-        print(f"    native tick                         {a['tick_us']:8.2f} us   "
-              f"python loop tick {a['python_tick_us']:8.1f} us")
+        print(f"    native tick                         {a['tick_us']:8.2f} us")
         print(f"      of which adapter + controller     {a['controller_step_us']:8.2f} us   "
               f"loop (models, FIFOs, events, logs) {a['loop_glue_us']:.2f} us")
-        print(f"    tick / raw mj_step                  {a['tick_over_mj_step']:8.2f}      "
-              f"python loop       {a['python_tick_over_mj_step']:8.2f}   (goal <= 1.2; wall "
-              f"clock {a['tick_over_mj_step_wall']:.2f})")
-        print(f"    real-time factor, one core          {a['real_time_factor']:8.0f} x    "
-              f"python loop       {a['python_real_time_factor']:8.1f} x   (wall clock "
-              f"{a['real_time_factor_wall']:.0f} x, {a['python_real_time_factor_wall']:.1f} x)")
+        print(f"    tick / raw mj_step                  {a['tick_over_mj_step']:8.2f}   (goal <= 1.2; "
+              f"wall clock {a['tick_over_mj_step_wall']:.2f})")
+        print(f"    real-time factor, one core          {a['real_time_factor']:8.0f} x   (wall clock "
+              f"{a['real_time_factor_wall']:.0f} x)")
         print(f"    real-time factor, {a['cores']} cores (batch) {a['real_time_factor_all_cores']:8.0f} x")
         print(f"    batch of {a['batch']}: 1 thread {a['batch_1_thread_s']:.3f} s, 2 threads "
               f"{a['batch_2_threads_s']:.3f} s -> {a['batch_speedup_2_over_1']:.2f} x (goal >= 1.8)")

@@ -1,8 +1,7 @@
 """The quadruped row of the native SIL bench (native_bench.py): quadruped-trot (non-idealities
 on) on the default quadruped, its native tick against raw mj_step replaying the torques the
 motors applied in that run (same start state, same motion and contacts), real-time factors on one
-core and on all cores, the 8-rollout batch on 1 and 2 threads, the per-tick Python loop beside
-it, and the gym environment's steps per second (kiloloop/QuadrupedTrot-v0, random actions).
+core and on all cores, the 8-rollout batch on 1 and 2 threads, and the gym environment's steps per second (kiloloop/QuadrupedTrot-v0, random actions).
 Same conventions as the arm row: CPU time of the calling thread, least of REPEATS runs."""
 from __future__ import annotations
 
@@ -13,13 +12,12 @@ import numpy as np
 
 import kiloloop as kl
 
-from .native_timing import (BATCH, REPEATS, batch_figures, python_figures, tick_figures,
-                            timed_ticks_and_raw)
+from .native_timing import BATCH, REPEATS, batch_figures, tick_figures, timed_ticks_and_raw
 
 
 def _setup():
     from ..scenarios import parse_settings, quadruped_trot
-    from ..sil.quadruped_rig import rig_from_settings
+    from ..scenarios.quadruped_settings import rig_from_settings
     from ..scenarios.quadruped_metrics import trot_command
 
     settings = parse_settings(quadruped_trot.DEFAULTS, None)
@@ -32,21 +30,21 @@ def _rollouts(rig, command, count: int, duration: float) -> list:
     for seed in range(count):
         data = mujoco.MjData(rig.plant.model)
         mujoco.mj_copyData(data, rig.plant.model, rig.plant.data)
-        adapter = rig.native_adapter(command, kl.QuadrupedController(rig.model, rig.config))
-        out.append(rig.native_rollout(duration, command, data=data, adapter=adapter, seed=seed))
+        adapter = rig.adapter(command, kl.QuadrupedController(rig.model, rig.config))
+        out.append(rig.rollout(duration, command, data=data, adapter=adapter, seed=seed))
     return out
 
 
 def _applied_torques(rig, tau_ctrl: np.ndarray) -> np.ndarray:
     """What reached the motors in a native run: the controller's torques (controller order) in
     plant order, through the transport delay (zeros first) and the saturation."""
-    s = rig.signals
+    motor = rig.family.motor(rig.parts, rig.signals)
     tau = tau_ctrl[:, rig.to_plant]
     delayed = np.zeros_like(tau)
-    d = s.motor_delay_ticks
+    d = motor.delay_ticks
     delayed[d:] = tau[:len(tau) - d] if d else tau
-    if s.motor_limit:
-        limit = np.asarray(s.motor_limit)
+    if motor.limit:
+        limit = np.asarray(motor.limit)
         delayed = np.clip(delayed, -limit, limit)
     return np.ascontiguousarray(delayed)
 
@@ -98,29 +96,16 @@ def quadruped_native(quick: bool) -> dict:
     ctrl_cpu = []
     y = rig.plant.data.sensordata[rig.measurement_addresses()].copy()
     for _ in range(REPEATS):
-        adapter = rig.native_adapter(command, kl.QuadrupedController(rig.model, rig.config))
+        adapter = rig.adapter(command, kl.QuadrupedController(rig.model, rig.config))
         c0 = time.thread_time()
         native._native.step_adapter(adapter, y, ticks)
         ctrl_cpu.append(time.thread_time() - c0)
     controller = min(ctrl_cpu) / ticks
 
     batches = batch_figures(lambda n: _rollouts(rig, command, n, duration), duration)
-
-    py_duration = min(duration, 1.0)
-    py_ticks = native.ticks_of(py_duration)
-
-    def python_loop() -> tuple[float, float]:
-        rig.plant.reset()
-        c0, w0 = time.thread_time(), time.perf_counter()
-        rig.run(py_duration, command, native=False)
-        return time.thread_time() - c0, time.perf_counter() - w0
-
-    py_runs = [python_loop() for _ in range(REPEATS)]
-    rig.plant.reset()
     env_steps = 1000 if quick else 10000
     ticking = tick_figures(duration, ticks, 1, rig.plant.timestep, raw_cpu, raw_wall, tick_cpu,
                            tick_wall, controller)
     return {"scenario": "quadruped-trot", "robot": rig.robot.name, **ticking, **batches,
-            **python_figures(py_runs, py_duration, py_ticks, ticking["raw_mj_step_us"]),
             "env": env_steps_per_second(env_steps),
             "env_vector": env_steps_per_second(env_steps, num_envs=BATCH)}

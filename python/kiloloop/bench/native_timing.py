@@ -102,16 +102,3 @@ def batch_figures(make_rollouts, duration: float) -> dict:
         # Between the 1-thread and after the 2-thread batches.
         "load_average_1min": 0.5 * (load1 + os.getloadavg()[0]),
     }
-
-
-def python_figures(py_runs: list, py_duration: float, py_ticks: int, raw_mj_step_us: float) -> dict:
-    """The per-tick Python loop's figures from REPEATS (CPU s, wall s) runs of py_duration."""
-    py_tick = min(c for c, _ in py_runs) / py_ticks
-    return {
-        "python_tick_us": py_tick * 1e6,
-        "python_tick_over_mj_step": py_tick * 1e6 / raw_mj_step_us,
-        "python_real_time_factor": py_duration / (py_tick * py_ticks),
-        "python_real_time_factor_wall": py_duration / min(w for _, w in py_runs),
-    }
-
-

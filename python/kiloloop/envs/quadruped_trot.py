@@ -31,7 +31,9 @@ from gymnasium.vector.utils import batch_space
 import kiloloop as kl
 
 from ..sil import native
-from ..sil.quadruped_rig import COMMON_DEFAULTS, CONTROL_DT, FellBelow, rig_from_settings
+from ..sil.events import FellBelow
+from ..sil.rig import CONTROL_DT
+from ..scenarios.quadruped_settings import COMMON_DEFAULTS, rig_from_settings
 from ..scenarios.quadruped_metrics import heading_velocity, roll_pitch, trot_command
 
 ACTION_SCALE = 0.1   # [body heights] foot offset per unit action
@@ -53,10 +55,10 @@ class _Episode:
         self.data = mujoco.MjData(plant.model)
         mujoco.mj_copyData(self.data, plant.model, plant.data)  # the plant's reset state
         command = trot_command(speed, WARMUP)
-        self.adapter = rig.native_adapter(command, kl.QuadrupedController(rig.model, rig.config))
+        self.adapter = rig.adapter(command, kl.QuadrupedController(rig.model, rig.config))
         duration = WARMUP + ticks * CONTROL_DT
-        self.rollout = rig.native_rollout(duration, command, stop_when=FellBelow(0.8 * rig.fall_height),
-                                          data=self.data, adapter=self.adapter, seed=seed)
+        self.rollout = rig.rollout(duration, command, stop=FellBelow(0.8 * rig.fall_height),
+                                   data=self.data, adapter=self.adapter, seed=seed)
 
 
 class _Core:

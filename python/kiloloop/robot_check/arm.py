@@ -1,4 +1,4 @@
-"""`kiloloop robot check` on an arm: what robot/arm.py derived, the plant (sil/arm_rig.py; work
+"""`kiloloop robot check` on an arm: what robot/arm.py derived, the plant (sil/arm_family.py; work
 pose and reach come from its geometry, scenarios/arm_targets.py) and the controllers the
 scenarios build."""
 from __future__ import annotations
@@ -8,7 +8,7 @@ import numpy as np
 import kiloloop as kl
 
 from ..robot import arm
-from ..sil.arm_rig import build_plant
+from ..sil.arm_family import build_plant
 from ..scenarios.arm_targets import reach, work_pose
 
 

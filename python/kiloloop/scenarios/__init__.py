@@ -9,10 +9,8 @@ criteria live beside the scenario and are the very ones its pytest asserts.
 Settings are layered: DEFAULTS < derive(robot) < the robot file's [scenario.<name>] < --set.
 A --set key with a dot (`controller.kp=400`) or naming a robot-file table sets the robot file.
 
-Loops: arm-track, arm-line, arm-estop, quadruped-* and aerial-* run natively (C++ loop,
-sil/native.py; video frames between ticks) unless `--set native=false` (or ground truth for the
-quadruped); arm-press (tool force sensor each tick) and arm-rrt (MuJoCo box contacts each tick)
-run per tick in Python. docs/native_sil.md says why.
+Every scenario runs its closed loop in C++ through the one rig (sil/rig.py: Rig over the native
+Rollout; video frames and payload attachments between ticks). docs/native_sil.md has the loop.
 
 Optional declarations a scenario module may make, checked here before anything runs:
 - MIN_DURATION [s], or min_duration(settings[, robot]) -> [s]: the shortest run whose metrics

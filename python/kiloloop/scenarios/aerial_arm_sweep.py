@@ -24,8 +24,8 @@ import numpy as np
 
 import kiloloop as kl
 
-from ..sil.aerial_rig import (COMMON_DEFAULTS, CONTROL_DT, REFERENCE_WIDTH, reference_row,
-                              rig_from_settings)
+from ..sil.aerial_signals import CONTROL_DT, REFERENCE_WIDTH, reference_row
+from .aerial_settings import COMMON_DEFAULTS, rig_from_settings
 from .aerial_metrics import add_derived, diverged, rotation_vector_error
 from ..errors import InputError
 from . import JUDGED_WINDOW, ScenarioResult, evaluate

@@ -7,7 +7,8 @@ import numpy as np
 
 import kiloloop as kl
 
-from ..sil.aerial_rig import COMMON_DEFAULTS, CONTROL_DT, LAWS, reference_row, rig_from_settings
+from ..sil.aerial_signals import CONTROL_DT, reference_row
+from .aerial_settings import COMMON_DEFAULTS, LAWS, rig_from_settings
 from .aerial_metrics import add_derived, diverged
 from . import JUDGED_WINDOW, ScenarioResult, evaluate
 from .plots import AERIAL_PLOT

@@ -6,7 +6,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..sil.aerial_rig import COMMON_DEFAULTS, rig_from_settings
+from .aerial_settings import COMMON_DEFAULTS, rig_from_settings
 from .aerial_metrics import add_derived, diverged, hold, hold_errors
 from . import ScenarioResult, evaluate
 from .plots import AERIAL_PLOT

@@ -8,7 +8,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..sil.aerial_rig import COMMON_DEFAULTS, Push, rig_from_settings
+from ..sil.events import Push
+from .aerial_settings import COMMON_DEFAULTS, rig_from_settings
 from .aerial_metrics import add_derived, diverged, hold
 from . import JUDGED_WINDOW, ScenarioResult, evaluate
 from .plots import AERIAL_PLOT

@@ -10,7 +10,8 @@ import numpy as np
 import kiloloop as kl
 
 from ..errors import InputError
-from ..sil.aerial_rig import COMMON_DEFAULTS, CONTROL_DT, reference_row, rig_from_settings
+from ..sil.aerial_signals import CONTROL_DT, reference_row
+from .aerial_settings import COMMON_DEFAULTS, rig_from_settings
 from .aerial_metrics import add_derived, diverged
 from . import JUDGED_WINDOW, ScenarioResult, evaluate
 from .plots import AERIAL_PLOT

@@ -5,7 +5,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..sil.aerial_rig import COMMON_DEFAULTS, RotorFault, rig_from_settings
+from ..sil.events import RotorFault
+from .aerial_settings import COMMON_DEFAULTS, rig_from_settings
 from .aerial_metrics import add_derived, diverged, hold
 from ..errors import InputError
 from . import JUDGED_WINDOW, ScenarioResult, evaluate

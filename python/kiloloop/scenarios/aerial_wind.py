@@ -14,8 +14,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..sil import aerial_rig
-from ..sil.aerial_rig import COMMON_DEFAULTS, rig_from_settings
+from ..sil import aerial_signals
+from .aerial_settings import COMMON_DEFAULTS, rig_from_settings
 from .aerial_metrics import add_derived, diverged, hold, hold_errors
 from . import ScenarioResult, evaluate
 from .plots import AERIAL_PLOT
@@ -43,13 +43,13 @@ def derive(robot) -> dict:
     return {"drag_area": DRAG_SHAPE * span * span}
 
 
-def Wind(settings, seed) -> aerial_rig.Wind:
+def Wind(settings, seed) -> aerial_signals.Wind:
     """Steady wind plus seeded first-order gusts and the drag it puts on the vehicle, as data: the
     model itself is C++ (cpp/sil/wind_drag.hpp: exact discretization of d/dt g = -g / tau +
     sigma sqrt(2 / tau) white noise per axis, vertical gusts halved, drag at the vehicle's CoM),
     the same in both loops."""
     h = np.radians(settings["wind_heading_deg"])
-    return aerial_rig.Wind(steady=settings["wind_speed"] * np.array([np.cos(h), np.sin(h), 0.0]),
+    return aerial_signals.Wind(steady=settings["wind_speed"] * np.array([np.cos(h), np.sin(h), 0.0]),
                            ramp=max(float(settings["ramp"]), 1e-9),
                            gust_sigma=float(settings["gust_sigma"]),
                            gust_tau=float(settings["gust_tau"]),
@@ -62,7 +62,7 @@ def run(settings: dict, seed: int = 0, duration: float | None = None,
         robot=None) -> ScenarioResult:
     rig = rig_from_settings(settings, seed, robot=robot)
     log = rig.run(DURATION if duration is None else duration, hold(rig),
-                  disturbance=Wind(settings, seed))
+                  disturbances=[Wind(settings, seed)])
     add_derived(log)
     t = log["t"]
     after = t >= min(settings["ramp"] + 1.0, 0.5 * t[-1])

@@ -8,8 +8,7 @@ max |qd| / a, distance qd^2 / (2 a) per joint), then the supervisor holds the fi
 Stop time, distance and hold drift are measured on MuJoCo's ground truth. Any arm: from the work
 pose to a goal 90 % of each joint's free range away (at most 0.9 rad, clear of the floor); the
 e-stop comes half-way through the motion (at cruise speed), unless the robot file says otherwise.
-The loop runs in C++ (sil/native.py; the e-stop is a scheduled event); `--set native=false` runs
-it per tick in Python, same log.
+The loop runs in C++ (sil/rig.py; the e-stop is a scheduled event).
 """
 from __future__ import annotations
 
@@ -18,8 +17,9 @@ import numpy as np
 import kiloloop as kl
 
 from ..errors import configuring
-from ..sil.arm_adapters import SupervisedTick
-from ..sil.arm_rig import ArmRig, controller
+from ..sil.arm_adapters import Supervised
+from ..sil.rig import Rig
+from .arm_controllers import controller
 from .arm_targets import joint_targets, work_pose
 from ..sil.native import Observe
 from . import JUDGED_WINDOW, ScenarioResult, evaluate
@@ -36,7 +36,6 @@ DEFAULTS = {
     "t_estop": -1.0,            # [s] e-stop pressed; < 0: half-way through the motion
     "stop_deceleration": 5.0,   # [rad/s^2] supervisor's a_stop
     "stopped_speed": 0.01,      # [rad/s] "stopped" when every |qd| is below this
-    "native": True,             # the C++ loop (sil/native.py); false: per tick in Python
 }
 CRITERIA = {
     "stop_time_over_plan_s": ("<", 0.05),       # stopped no later than planned + 50 ms
@@ -76,7 +75,7 @@ def min_duration(settings, robot=None) -> float:
     """[s] a run must see the stop through: the e-stop, the planned stop from cruise speed with
     the time its criterion allows over the plan, then a judged hold (the motion derived as run()
     derives it, on a plant of its own)."""
-    rig = ArmRig(robot or kl.Robot.load("ur5"))
+    rig = Rig(robot or kl.Robot.load("ur5"))
     _, _, _, t_estop, cruise = motion(rig, settings)
     a = float(settings["stop_deceleration"])
     stop = cruise / a if a > 0 else 0.0  # a <= 0: refused by the supervisor, with its own line
@@ -87,7 +86,7 @@ def run(settings: dict, seed: int = 0, duration: float | None = None,
         robot=None) -> ScenarioResult:
     del seed  # deterministic
     robot = robot or kl.Robot.load("ur5")
-    rig = ArmRig(robot, video=settings.get("video"))
+    rig = Rig(robot, video=settings.get("video"))
     plant, model = rig.plant, rig.model
     q_start, q_goal, trajectory, t_estop, cruise = motion(rig, settings)
     plant.q0 = q_start
@@ -97,11 +96,11 @@ def run(settings: dict, seed: int = 0, duration: float | None = None,
     config.stop_deceleration = np.array([float(settings["stop_deceleration"])])
     with configuring(f"{NAME} supervisor"):
         supervisor = kl.ArmSupervisor(model, config)
-    tick = SupervisedTick(controller(robot, model, "computed_torque", q_start), supervisor,
-                          trajectory, t_estop)
+    reference = Supervised(controller(robot, model, "computed_torque", q_start), supervisor,
+                           trajectory, t_estop)
 
-    log = rig.run(tick, DURATION if duration is None else duration,
-                  observe=Observe("q_true", "qd_true"), native=settings["native"])
+    log = rig.run(DURATION if duration is None else duration, reference,
+                  observe=Observe("q_true", "qd_true"))
     t, q, qd, mode = log["t"], log["q_true"], log["qd_true"], log["mode"]
     a = float(settings["stop_deceleration"])
     k0 = int(np.searchsorted(t, t_estop))

@@ -8,7 +8,7 @@ measured on MuJoCo's `ee_site`, against the line itself. Any arm: the line start
 work pose; unless given, its length is 20 % of the reach and its rotation 0.5 rad, along the first
 of a fixed list of directions whose line the IK can follow within the limits
 (scenarios/arm_targets.py).
-The loop runs in C++ (sil/native.py); `--set native=false` runs it per tick in Python, same log.
+The loop runs in C++ (sil/rig.py).
 """
 from __future__ import annotations
 
@@ -17,8 +17,10 @@ import numpy as np
 import kiloloop as kl
 
 from ..errors import configuring
-from ..sil.arm_adapters import CartesianTick
-from ..sil.arm_rig import ArmRig, joint_config
+from ..sil.arm_adapters import CartesianTracking
+from ..sil.rig import Rig
+from ..sil.signals import Signals
+from .arm_controllers import joint_config
 from .arm_targets import line_target, work_pose
 from ..sil.native import Observe
 from . import ScenarioResult, evaluate
@@ -36,14 +38,13 @@ DEFAULTS = {
     "line_duration": 2.25,                # [s]
     "task_gain": 50.0,                    # [1/s] CLIK gain on the differential-IK reference
     "physics_dt": 0.001,                  # [s] MuJoCo timestep
-    "delay_ticks": 0,                     # measurement delay [ticks]
-    "native": True,                       # the C++ loop (sil/native.py); false: per tick in Python
+    "measurement_delay": 0.0,             # [s] age of the controller's measurement
 }
 # Robot-file tables it reads (scenarios/__init__.py): the chain, the plant, the joint controller.
 ROBOT_KEYS = ("chain", "sim", "controller")
 SIZES = {"q_start": "nq", "displacement": 3, "rotation": 3}
 # Settings' valid ranges (scenarios/__init__.py): a zero time or scale means nothing.
-LIMITS = {"physics_dt": (">", 0.0), "delay_ticks": (">=", 0), "t_start": (">=", 0.0),
+LIMITS = {"physics_dt": (">", 0.0), "measurement_delay": (">=", 0.0), "t_start": (">=", 0.0),
           "line_duration": (">", 0.0)}
 CRITERIA = {
     "max_ee_error_m": ("<", 1e-3),
@@ -80,7 +81,8 @@ def run(settings: dict, seed: int = 0, duration: float | None = None,
         robot=None) -> ScenarioResult:
     del seed  # deterministic: no noise in this scenario
     robot = robot or kl.Robot.load("ur5")
-    rig = ArmRig(robot, video=settings.get("video"), timestep=settings["physics_dt"])
+    rig = Rig(robot, Signals(measurement_delay=settings["measurement_delay"]),
+              video=settings.get("video"), physics_dt=settings["physics_dt"])
     plant, model = rig.plant, rig.model
     q0 = np.asarray(settings["q_start"], float) if len(settings["q_start"]) else work_pose(
         robot, model, plant)
@@ -93,13 +95,12 @@ def run(settings: dict, seed: int = 0, duration: float | None = None,
     line = make_line(model, q0, settings)
     config = kl.CartesianTrackingConfig()
     config.task_gain = np.full(6, float(settings["task_gain"]))
-    config.joint = joint_config(robot, model, q0, settings["delay_ticks"])
+    config.joint = joint_config(robot, model, q0, settings["measurement_delay"])
     with configuring(f"{NAME} controller"):
-        tick = CartesianTick(kl.CartesianTrackingController(model, config), line)
+        reference = CartesianTracking(kl.CartesianTrackingController(model, config), line)
 
-    log = rig.run(tick, DURATION if duration is None else duration,
-                  delay_ticks=settings["delay_ticks"], observe=Observe("ee", "ee_rot"),
-                  native=settings["native"])
+    log = rig.run(DURATION if duration is None else duration, reference,
+                  observe=Observe("ee", "ee_rot"))
 
     # The line lives in the chain's root frame; MuJoCo's site in the world frame.
     T = rig.T_world_root()

@@ -20,7 +20,7 @@ import kiloloop as kl
 from ..errors import InputError, configuring
 from ..sil import arm_scene
 from ..sil.arm_adapters import PressTick
-from ..sil.arm_rig import ArmRig
+from ..sil.rig import Rig
 from .arm_targets import line_feasible, work_pose
 from ..sil.log import SignalLog
 from . import JUDGED_WINDOW, ScenarioResult, evaluate
@@ -164,7 +164,7 @@ def run(settings: dict, seed: int = 0, duration: float | None = None,
     robot = robot or kl.Robot.load("ur5")
     tip = arm_scene.ToolTip(parent=robot.section("chain")["tip"], friction=settings["friction"])
     # Where the tip starts decides where the table goes: its top `gap` below the tip sphere.
-    probe = ArmRig(robot, scene=tip)
+    probe = Rig(robot, scene=tip)
     model = probe.model
     q0, slide = press_pose(probe, settings)
     settings = dict(settings, q0=q0.tolist(), slide=slide)
@@ -185,7 +185,7 @@ def run(settings: dict, seed: int = 0, duration: float | None = None,
                             friction=settings["friction"],
                             solref=settings["solref"] or None, solimp=settings["solimp"] or None)
 
-    rig = ArmRig(robot, scene=scene, video=settings.get("video"))
+    rig = Rig(robot, scene=scene, video=settings.get("video"))
     plant = rig.plant
     plant.q0 = q0
     plant.reset()

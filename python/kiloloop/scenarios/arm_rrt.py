@@ -20,8 +20,9 @@ import kiloloop as kl
 
 from ..errors import InputError
 from ..sil import arm_scene
-from ..sil.arm_adapters import JointTrackingTick
-from ..sil.arm_rig import ArmRig, controller
+from ..sil.arm_adapters import JointTracking
+from ..sil.rig import Rig
+from .arm_controllers import controller
 from .arm_targets import link_capsules, reach, work_pose
 from ..sil.log import SignalLog
 from . import ScenarioResult, evaluate
@@ -170,7 +171,7 @@ def plan(model, capsules, settings, seed: int):
 def run(settings: dict, seed: int = 0, duration: float | None = None,
         robot=None) -> ScenarioResult:
     robot = robot or kl.Robot.load("ur5")
-    probe = ArmRig(robot)  # no obstacle yet: derives the targets on the bare arm
+    probe = Rig(robot)  # no obstacle yet: derives the targets on the bare arm
     model = probe.model
     capsules = link_capsules(robot, model)
     settings = derive_targets(robot, model, capsules, probe.plant, settings)
@@ -191,14 +192,14 @@ def run(settings: dict, seed: int = 0, duration: float | None = None,
         center = T[:3, :3] @ np.asarray(settings["box_center"], float) + T[:3, 3]
         arm_scene.add_box(spec, "obstacle", center, settings["box_half_extents"])
 
-    rig = ArmRig(robot, scene=scene, video=settings.get("video"))
+    rig = Rig(robot, scene=scene, video=settings.get("video"))
     plant = rig.plant
     q_start = np.asarray(settings["q_start"], dtype=float)
     plant.q0 = q_start
     plant.reset()
     box = plant.model.geom("obstacle").id
     links = arm_scene.robot_geoms(plant)
-    tick = JointTrackingTick(controller(robot, model, "computed_torque", q_start), trajectory)
+    tick = JointTracking(controller(robot, model, "computed_torque", q_start), trajectory)
 
     def observe(p, log: SignalLog) -> None:
         log.record("q_true", p.q())

@@ -1,7 +1,7 @@
 """What the arm scenarios derive from the plant's geometry: the reach, a well-conditioned work
 pose (PoseProbe), joint-space targets clear of the floor, a Cartesian line the IK can follow and
-the links' collision capsules for planning. The rig (sil/arm_rig.py) builds the plant and runs
-the loop; the targets a scenario derives live with the scenarios."""
+the links' collision capsules for planning. The rig (sil/rig.py, sil/arm_family.py) builds the plant
+and runs the loop; the targets a scenario derives live with the scenarios."""
 from __future__ import annotations
 
 import mujoco
@@ -11,7 +11,6 @@ import kiloloop as kl
 
 from ..errors import InputError
 from ..robot import arm as arm_defaults
-from ..sil.arm_rig import ArmRig
 from ..sil.plant import MujocoPlant
 
 # Work pose search: seeded candidates around the start pose, scored by the conditioning of the
@@ -225,7 +224,7 @@ def line_feasible(model, q0, displacement, rotation, duration: float, samples: i
     return True
 
 
-def line_target(rig: ArmRig, q0, duration: float) -> tuple[np.ndarray, np.ndarray]:
+def line_target(rig, q0, duration: float) -> tuple[np.ndarray, np.ndarray]:
     """(displacement [m], rotation vector [rad]) of a derived Cartesian line from the pose at q0:
     LINE_LENGTH of the reach along the first feasible LINE_DIRECTIONS entry, LINE_ROTATION about
     the first feasible axis (halved up to twice when nothing is feasible)."""

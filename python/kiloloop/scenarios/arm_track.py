@@ -5,7 +5,7 @@ the same trajectory for comparison (the same bandwidth on the diagonal of M at t
 the only difference is what computed torque adds). Any arm robot file: the start pose is the
 robot's work pose and the waypoints move each joint by half of its free range (at most 0.5 rad),
 clear of the floor (scenarios/arm_targets.py); a robot file's [scenario.arm-track] may give them.
-The loop runs in C++ (sil/native.py); `--set native=false` runs it per tick in Python, same log.
+The loop runs in C++ (sil/rig.py).
 """
 from __future__ import annotations
 
@@ -14,8 +14,10 @@ import numpy as np
 import kiloloop as kl
 
 from ..errors import configuring
-from ..sil.arm_adapters import JointTrackingTick
-from ..sil.arm_rig import ArmRig, controller
+from ..sil.arm_adapters import JointTracking
+from ..sil.rig import Rig
+from ..sil.signals import Signals
+from .arm_controllers import controller
 from .arm_targets import joint_targets, work_pose
 from ..sil.native import Observe
 from . import ScenarioResult, evaluate
@@ -27,7 +29,7 @@ DURATION = 4.5  # [s] default simulated time: trajectory (3.5 s) plus 1 s of hol
 DEFAULTS = {
     "controller": "computed_torque",  # or "pd_gravity"
     "physics_dt": 0.001,  # [s] MuJoCo timestep; the control period stays 1 ms
-    "delay_ticks": 0,     # measurement delay [ticks]
+    "measurement_delay": 0.0,  # [s] age of the controller's measurement (whole ticks, half up)
     # Plant-only joint damping [N m s/rad], Coulomb friction [N m] and rotor inertia [kg m^2] that
     # the controller does not know of; None: the robot's own (its URDF / [sim.joints]), which the
     # controller compensates.
@@ -40,13 +42,12 @@ DEFAULTS = {
     "waypoint_2": [],
     "t_1": 1.5,           # [s] at waypoint 1
     "t_2": 3.5,           # [s] at waypoint 2
-    "native": True,       # the C++ loop (sil/native.py); false: the per-tick Python loop
 }
 # Robot-file tables it reads (scenarios/__init__.py): the chain, the plant, the joint controller.
 ROBOT_KEYS = ("chain", "sim", "controller")
 SIZES = {"q_start": "nq", "waypoint_1": "nq", "waypoint_2": "nq"}  # [rad] per joint
 # Settings' valid ranges (scenarios/__init__.py): a zero time or scale means nothing.
-LIMITS = {"physics_dt": (">", 0.0), "delay_ticks": (">=", 0), "t_1": (">", 0.0)}
+LIMITS = {"physics_dt": (">", 0.0), "measurement_delay": (">=", 0.0), "t_1": (">", 0.0)}
 WAYPOINT_FRACTION = 0.5  # of each joint's free range (capped at 1 rad) per waypoint
 CRITERIA = {
     "max_joint_error_rad": ("<", 1e-3),
@@ -75,7 +76,8 @@ def run(settings: dict, seed: int = 0, duration: float | None = None,
     robot = robot or kl.Robot.load("ur5")
     plant_only = {k: None if settings[k] in (None, "", "none") else float(settings[k])
                   for k in ("damping", "frictionloss", "armature")}
-    rig = ArmRig(robot, video=settings.get("video"), timestep=settings["physics_dt"], **plant_only)
+    rig = Rig(robot, Signals(measurement_delay=settings["measurement_delay"]),
+              video=settings.get("video"), physics_dt=settings["physics_dt"], **plant_only)
     plant, model = rig.plant, rig.model
     points = waypoints(rig, settings)
     plant.q0 = points[0]
@@ -83,13 +85,13 @@ def run(settings: dict, seed: int = 0, duration: float | None = None,
     with configuring(f"{NAME} t_1, t_2"):  # the times must increase
         trajectory = kl.QuinticTrajectory(points, np.array([0.0, settings["t_1"], settings["t_2"]]))
     law = settings["controller"]
-    tick = JointTrackingTick(controller(robot, model, law, points[0],
-                                        delay_ticks=settings["delay_ticks"]), trajectory)
+    reference = JointTracking(controller(robot, model, law, points[0],
+                                         measurement_delay=settings["measurement_delay"]),
+                              trajectory)
 
     # Ground truth: the controller may see a delayed q.
-    log = rig.run(tick, DURATION if duration is None else duration,
-                  delay_ticks=settings["delay_ticks"], observe=Observe("q_true", "ee"),
-                  native=settings["native"])
+    log = rig.run(DURATION if duration is None else duration, reference,
+                  observe=Observe("q_true", "ee"))
 
     # Desired end-effector positions from the same compiled kinematics, in the world frame.
     dyn, T = kl.Dynamics(model), rig.T_world_root()

@@ -6,7 +6,7 @@ tracked, feet do not slide. A standing foot sinks m g / (4 k): 43 mm for the 17.
 from __future__ import annotations
 
 from . import footholds
-from ..sil.quadruped_rig import COMMON_DEFAULTS
+from .quadruped_settings import COMMON_DEFAULTS
 from ..sil.terrain import Compliant
 from .terrain_trot import SETTLED, run_trot
 from . import JUDGED_WINDOW, ScenarioResult, evaluate

@@ -1,12 +1,13 @@
 """What the quadruped scenarios compute from a log (roll/pitch, heading-frame velocity, falls,
 trot metrics, the estimator's attitude errors) and the trotting command and stop condition they
-share (trot, push, turn, slope-trot, the terrain trots). The rig (sil/quadruped_rig.py) only
-moves data; what a run is judged by lives with the scenarios."""
+share (trot, push, turn, slope-trot, the terrain trots). The rig (sil/rig.py,
+sil/quadruped_family.py) only moves data; what a run is judged by lives with the scenarios."""
 from __future__ import annotations
 
 import numpy as np
 
-from ..sil.quadruped_rig import CommandSchedule, FellBelow
+from ..sil.events import FellBelow
+from ..sil.quadruped_family import CommandSchedule
 
 
 def roll_pitch(quat_wxyz: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

@@ -5,7 +5,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..sil.quadruped_rig import COMMON_DEFAULTS, push_event, rig_from_settings
+from ..sil.events import Push
+from .quadruped_settings import COMMON_DEFAULTS, rig_from_settings
 from .quadruped_metrics import add_derived, fallen, trot_command
 from . import JUDGED_WINDOW, ScenarioResult, evaluate
 from .plots import QUADRUPED_PLOT
@@ -28,7 +29,7 @@ def run(settings: dict, seed: int = 0, duration: float | None = None,
     rig = rig_from_settings(settings, seed, robot=robot)
     impulse = settings["impulse"] or settings["impulse_per_kg"] * rig.config.mass
     force = np.array([0.0, impulse / PUSH_DURATION, 0.0])  # +y: push to the left
-    events = [push_event(PUSH_TIME, force, PUSH_DURATION)]
+    events = [(PUSH_TIME, Push(force, PUSH_DURATION))]
     log = rig.run(DURATION if duration is None else duration, trot_command(settings["speed"]),
                   events=events)
     add_derived(log)

@@ -4,7 +4,7 @@ feet do not slide. Sized from the robot: peak |height| a fraction of the swing h
 controller derives, bumps about one standing height long (body_height)."""
 from __future__ import annotations
 
-from ..sil.quadruped_rig import COMMON_DEFAULTS
+from .quadruped_settings import COMMON_DEFAULTS
 from ..sil.terrain import Rough
 from .terrain_trot import SETTLED, run_trot
 from . import JUDGED_WINDOW, ScenarioResult, evaluate

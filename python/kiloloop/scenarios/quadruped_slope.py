@@ -5,7 +5,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..sil.quadruped_rig import COMMON_DEFAULTS, rig_from_settings, stand_command
+from ..sil.quadruped_family import stand_command
+from .quadruped_settings import COMMON_DEFAULTS, rig_from_settings
 from .quadruped_metrics import add_derived, fallen
 from . import JUDGED_WINDOW, ScenarioResult, evaluate
 from .plots import QUADRUPED_PLOT

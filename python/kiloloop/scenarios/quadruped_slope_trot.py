@@ -5,7 +5,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..sil.quadruped_rig import COMMON_DEFAULTS, CommandSchedule, rig_from_settings
+from ..sil.quadruped_family import CommandSchedule
+from .quadruped_settings import COMMON_DEFAULTS, rig_from_settings
 from .quadruped_metrics import add_derived, fallen, fell_early, heading_velocity
 from . import JUDGED_WINDOW, ScenarioResult, evaluate
 from .plots import QUADRUPED_PLOT
@@ -29,7 +30,7 @@ def run(settings: dict, seed: int = 0, duration: float | None = None,
     command = CommandSchedule([(0.0, 0, np.zeros(3)), (START, 1, np.array([speed, 0.0, 0.0])),
                                (REVERSE, 1, np.array([-speed, 0.0, 0.0]))])
 
-    log = rig.run(DURATION if duration is None else duration, command, stop_when=fell_early(rig))
+    log = rig.run(DURATION if duration is None else duration, command, stop=fell_early(rig))
     add_derived(log)
     t, v = log["t"], heading_velocity(log)[:, 0]
     up = (t >= UP[0]) & (t < UP[1])

@@ -5,7 +5,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..sil.quadruped_rig import COMMON_DEFAULTS, rig_from_settings, stand_command
+from ..sil.quadruped_family import stand_command
+from .quadruped_settings import COMMON_DEFAULTS, rig_from_settings
 from .quadruped_metrics import add_derived, fallen
 from . import JUDGED_WINDOW, ScenarioResult, evaluate
 from .plots import QUADRUPED_PLOT
@@ -22,11 +23,10 @@ CRITERIA = {"height_error_after_1s_m": ("<", 0.01), "fell": ("<", 0.5)}
 def run(settings: dict, seed: int = 0, duration: float | None = None,
         robot=None) -> ScenarioResult:
     from ..robot.quadruped import controller_config
-    from ..sil.quadruped_rig import default_robot
+    from .quadruped_settings import default_robot, design_delay
 
     robot = robot or default_robot()
-    config = controller_config(robot, actuation_delay=settings["motor_delay"]
-                               if settings["nonideal"] else 0.0)
+    config = controller_config(robot, actuation_delay=design_delay(settings))
     if settings["body_height"] > 0:
         config.body_height = settings["body_height"]
     rig = rig_from_settings(settings, seed, config=config, robot=robot)

@@ -5,7 +5,7 @@ The height spread is a fraction of the swing height the controller derives (0.16
 a step between neighbours is at most half the swing apex."""
 from __future__ import annotations
 
-from ..sil.quadruped_rig import COMMON_DEFAULTS
+from .quadruped_settings import COMMON_DEFAULTS
 from ..sil.terrain import Stones
 from .terrain_trot import SETTLED, run_trot
 from . import JUDGED_WINDOW, ScenarioResult, evaluate

@@ -4,7 +4,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..sil.quadruped_rig import COMMON_DEFAULTS, push_event, rig_from_settings, stand_command
+from ..sil.events import Push
+from ..sil.quadruped_family import stand_command
+from .quadruped_settings import COMMON_DEFAULTS, rig_from_settings
 from .quadruped_metrics import add_derived
 from . import JUDGED_WINDOW, ScenarioResult, evaluate
 from .plots import QUADRUPED_PLOT
@@ -30,7 +32,7 @@ def run(settings: dict, seed: int = 0, duration: float | None = None,
     rig = rig_from_settings(settings, seed, robot=robot)
     impulse = settings["impulse"] or settings["impulse_per_kg"] * rig.config.mass
     force = np.array([0.0, impulse / settings["push_duration"], 0.0])
-    events = [push_event(PUSH_TIME, force, settings["push_duration"])]
+    events = [(PUSH_TIME, Push(force, settings["push_duration"]))]
     log = rig.run(DURATION if duration is None else duration, stand_command(),
                   events=events)
     add_derived(log)

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..sil.quadruped_rig import COMMON_DEFAULTS, rig_from_settings
+from .quadruped_settings import COMMON_DEFAULTS, rig_from_settings
 from .quadruped_metrics import add_derived, fell_early, trot_command, trot_metrics
 from . import JUDGED_WINDOW, ScenarioResult, evaluate
 from .plots import QUADRUPED_PLOT
@@ -23,7 +23,7 @@ def run(settings: dict, seed: int = 0, duration: float | None = None,
         robot=None) -> ScenarioResult:
     rig = rig_from_settings(settings, seed, robot=robot)
     log = rig.run(DURATION if duration is None else duration, trot_command(settings["speed"]),
-                  stop_when=fell_early(rig))
+                  stop=fell_early(rig))
     add_derived(log)
     metrics = trot_metrics(log, settings["speed"], SETTLED, rig.fall_height)
     metrics["speed"] = settings["speed"]

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 from . import footholds
-from ..sil.quadruped_rig import rig_from_settings
+from .quadruped_settings import rig_from_settings
 from .quadruped_metrics import add_derived, fell_early, trot_command, trot_metrics
 
 START = 0.5     # [s] standing before the trot command
@@ -16,7 +16,7 @@ def run_trot(settings: dict, seed: int, duration: float, robot, terrain):
     """terrain: callable(resolved QuadrupedConfig) -> terrain spec. Returns (rig, log, metrics):
     trot_metrics plus the feet's slip and touch-down heights over whole stances after SETTLED."""
     rig = rig_from_settings(settings, seed, robot=robot, terrain=terrain)
-    log = rig.run(duration, trot_command(settings["speed"], START), stop_when=fell_early(rig))
+    log = rig.run(duration, trot_command(settings["speed"], START), stop=fell_early(rig))
     add_derived(log)
     metrics = trot_metrics(log, settings["speed"], SETTLED, rig.fall_height)
     weight = rig.config.mass * 9.81

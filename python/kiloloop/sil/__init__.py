@@ -1,7 +1,7 @@
 """Software-in-the-loop: the MuJoCo plant and the glue that drives the control core against it.
 
-Batch runs: `kl.sil.run_batch(rollouts, threads)` (native rollouts on C++ threads) and
-`kl.sil.run_scenarios(scenario, runs, threads)` (sil/batch.py); the native loop: sil/native.py.
+The rig: `kl.sil.Rig(robot, signals)` (sil/rig.py; one for every family, over the native loop);
+batch runs: `kl.sil.run_batch(rollouts, threads)` (native rollouts on C++ threads, sil/batch.py).
 """
 from __future__ import annotations
 
@@ -10,9 +10,10 @@ import importlib as _importlib
 
 def __getattr__(name: str):
     # Lazy: importing kiloloop.sil must not pull in mujoco or the scenarios.
-    if name in ("batch", "native"):
+    if name in ("batch", "native", "events", "signals", "rig"):
         return _importlib.import_module(f".{name}", __name__)
-    if name in ("run_batch", "run_scenarios"):
-        batch = _importlib.import_module(".batch", __name__)
-        return batch.run if name == "run_batch" else batch.run_scenarios
+    if name == "run_batch":
+        return _importlib.import_module(".batch", __name__).run
+    if name in ("Rig", "Signals"):
+        return getattr(_importlib.import_module(f".{name.lower()}", __name__), name)
     raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

@@ -31,7 +31,7 @@ def inverse_dynamics_crosscheck(robot=None, n: int = 200, seed: int = 20261122) 
     acceleration, arm position within limits, velocity and acceleration): arm torques [N m] and
     the reaction wrench [N, N m]. robot: an aerial robot file with an arm whose body CoM is its
     origin (default: kiloloop's aerial manipulator)."""
-    from .aerial_rig import load_robot
+    from .aerial_family import load_robot
 
     robot = load_robot(robot)
     plant = AerialPlant.from_robot(robot, damping=0.0, frictionloss=0.0, motor_lag=False)

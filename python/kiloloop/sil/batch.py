@@ -1,19 +1,13 @@
 """Many SIL runs at once on one machine (MuJoCo's `rollout` shape).
 
-Two levels:
-- `run(rollouts, threads)`: native Rollouts (sil/native.py), each with its own MjData and
-  controller objects, on a pool of C++ threads with the GIL released. The loop is deterministic and
-  rollouts share nothing mutable, so results do not depend on the thread count.
-- `run_scenarios(scenario, runs, threads)`: whole scenario runs (robot, settings, seed) on a pool
-  of Python threads. A native-capable scenario spends its loop in C++ with the GIL released, so the
-  loops of different runs overlap; the Python set-up and post-processing of each run (URDF,
-  MjSpec compile, metrics) still take the GIL in turn. `kiloloop sweep` (sweep.py, a layer up)
-  uses it for scenarios that run natively (`native_capable`), and `run_one` on processes or Ray
-  for the others: every backend runs the same function, so the same seeds give the same rows.
+`run(rollouts, threads)`: native Rollouts (sil/rig.py Rig.rollout), each with its own MjData and
+controller objects, on a pool of C++ threads with the GIL released. The loop is deterministic and
+rollouts share nothing mutable, so results do not depend on the thread count. Whole scenario
+runs at once: scenarios/batch.py (a layer up).
 
-    from kiloloop.sil import batch, native
-    rollouts = [native.rollout(plant, tick.native_adapter(), 4.5, data=mujoco.MjData(plant.model))
-                for tick in ticks]
+    from kiloloop.sil import batch
+    rollouts = [rig.rollout(4.5, reference, data=mujoco.MjData(rig.plant.model))
+                for reference in references]
     batch.run(rollouts, threads=2)
 
 Each new MjData starts at the plant's state (native.start_state: a copy of plant.data), as the
@@ -21,12 +15,8 @@ plant's own data would; the README's batch example runs in tests/test_doc_snippe
 """
 from __future__ import annotations
 
-import math
 import os
-import time
-from concurrent.futures import ThreadPoolExecutor, as_completed
 
-from .. import scenarios
 from . import native
 
 
@@ -38,75 +28,3 @@ def run(rollouts: list, threads: int | None = None) -> list:
     threads = max(1, int(threads or os.cpu_count() or 1))
     native._native.run_batch(list(rollouts), threads)
     return list(rollouts)
-
-
-def native_capable(scenario: str, sets=None, grid=None) -> bool:
-    """True when the scenario's runs take the native loop: its `native` setting is on by default,
-    not turned off by `sets` (["native=false"]) nor swept in `grid`, and this build has it."""
-    module = scenarios.get(scenario)
-    if not (native.available() and module.DEFAULTS.get("native") is True):
-        return False
-    if grid and "native" in grid:
-        return False
-    for item in sets or []:
-        key, _, value = item.partition("=")
-        if key == "native" and value.lower() in ("0", "false", "no", "off"):
-            return False
-    return True
-
-
-def _divergence(result) -> str:
-    reason = result.settings.get("divergence", "") if isinstance(result.settings, dict) else ""
-    if reason:
-        return str(reason)
-    for name, value in result.metrics.items():
-        if name.startswith("diverged") and value:
-            return name
-        if isinstance(value, float) and math.isnan(value):
-            return f"NaN metric {name}"
-    return ""
-
-
-def run_one(scenario: str, params: dict, seed: int, duration: float | None, robot=None,
-            sets=None) -> dict:
-    """One scenario run (in a worker thread, process or Ray task); never raises (an exception
-    becomes the failure reason). params (the grid point) and sets (fixed --set items) may name
-    scenario settings or dotted robot-file keys."""
-    start = time.perf_counter()
-    try:
-        module = scenarios.get(scenario)
-        overrides = overrides_of(sets, params)
-        # run_sweep has warned about unread keys once; its workers stay quiet.
-        robot_obj, settings = scenarios.prepare(module, robot, overrides, warn=False)
-        result = scenarios.run(module, settings, robot_obj, seed=seed, duration=duration)
-        metrics = {k: float(v) for k, v in result.metrics.items()}
-        return {"params": params, "passed": bool(result.passed), "metrics": metrics,
-                "reason": _divergence(result), "wall_s": time.perf_counter() - start}
-    except Exception as e:  # noqa: BLE001 - a sweep records every failure and goes on
-        return {"params": params, "passed": False, "metrics": {},
-                "reason": f"error: {type(e).__name__}: {e}", "wall_s": time.perf_counter() - start}
-
-
-def overrides_of(sets, params: dict) -> dict:
-    """Fixed --set items and one grid point as one dict of overrides (the point wins)."""
-    robot_sets, scenario_sets = scenarios.split_overrides(sets or [])
-    return {**robot_sets, **scenario_sets, **params}
-
-
-def run_scenarios(scenario: str, runs: list[dict], threads: int | None = None,
-                  on_done=None) -> list[dict]:
-    """Each run is {"params": {...}, "seed": int, "duration": float | None, "robot": ...,
-    "sets": [...]}, as `kiloloop sweep` builds them; results in the given order, each the dict of
-    run_one (a failure is captured in it, never raised). on_done(i, result) after each."""
-    threads = max(1, int(threads or os.cpu_count() or 1))
-    results: list[dict | None] = [None] * len(runs)
-    with ThreadPoolExecutor(max_workers=threads) as pool:
-        futures = {pool.submit(run_one, scenario, r.get("params", {}), r.get("seed", 0),
-                               r.get("duration"), r.get("robot"), r.get("sets")): i
-                   for i, r in enumerate(runs)}
-        for future in as_completed(futures):
-            i = futures[future]
-            results[i] = future.result()  # run_one never raises
-            if on_done is not None:
-                on_done(i, results[i])
-    return results  # type: ignore[return-value]

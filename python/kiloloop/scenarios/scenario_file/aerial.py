@@ -7,8 +7,8 @@ from __future__ import annotations
 import numpy as np
 
 from ...errors import InputError
-from ...sil import native
-from ...sil.aerial_rig import COMMON_DEFAULTS, Push, RotorFault, rig_from_settings
+from ...sil.events import Push, RotorFault
+from ..aerial_settings import COMMON_DEFAULTS, rig_from_settings
 from ..aerial_metrics import rotation_vector_error
 from ...sil.aerial_signals import reference_row
 from . import common
@@ -21,8 +21,8 @@ DIVERGED_TILT_DEG = 60.0  # [deg] the controller's own safe-stop tilt
 
 
 class SetpointTable:
-    """The reference as the aerial adapter's table (one row per tick, AerialAdapter::Ref): both
-    loops read it (sil/aerial_signals.reference_table takes a command's own table())."""
+    """The reference as the aerial adapter's table (one row per tick, AerialAdapter::Ref;
+    sil/aerial_signals.reference_table takes a command's own table())."""
 
     def __init__(self, reference, q0):
         self.reference, self.q0 = reference, np.asarray(q0, float)
@@ -63,20 +63,10 @@ def run(scenario, robot, settings: dict, seed: int, duration: float, video: str 
                                                               f"events[{i}].body")
             payloads.append((common.ticks(e.t), body, e))
     nq = rig.plant.nq
-    # y = [position (3); velocity (3); gyro; accel; quat; q (nq); qd (nq)] (AerialRig.measurement)
+    # y = [position (3); velocity (3); gyro; accel; quat; q (nq); qd (nq)] (sil/aerial_family.py)
     stages = common.dropout_stages(scenario.events, {"position": (0, 6), "imu": (6, 10),
                                                      "joints": (16, 2 * nq)})
-    if not settings["native"]:
-        if payloads or stages:
-            raise InputError("settings.native = false (the per-tick Python loop) runs "
-                             "no payload or sensor_dropout events on a multirotor")
-        log = rig.run(duration, command, events=events, native=False)
-    else:
-        r = rig.native_rollout(duration, command, events=events, stages=stages)
-        common.drive(r, rig.plant.model, rig.plant.data, payloads, video, base)
-        log = native.signal_log(r)
-        if r.diverged:
-            log.record("diverged", 1.0)
+    log = rig.run(duration, command, events, stages=stages, hooks=common.payload_hooks(payloads))
     return signals(log, rig), components(rig)
 
 

@@ -10,8 +10,11 @@ import kiloloop as kl
 
 from ...errors import InputError
 from ...sil import native
-from ...sil.arm_adapters import JointTrackingTick, SupervisedTick
-from ...sil.arm_rig import ArmRig, controller
+from ...sil import events as sil_events
+from ...sil.arm_adapters import JointTracking, Supervised
+from ...sil.rig import Rig
+from ...sil.signals import Signals
+from ..arm_controllers import controller
 from ..arm_targets import work_pose
 from ...sil.urdf_import import rpy_matrix
 from . import common
@@ -33,7 +36,6 @@ DEFAULTS = {
     "frictionloss": None,
     "armature": None,
     "stop_deceleration": 5.0,   # [rad/s^2] the supervisor's stopping ramp (estop events)
-    "native": True,             # false: the per-tick Python loop (the same log, slower)
 }
 LAWS = ("computed_torque", "pd_gravity")
 
@@ -85,53 +87,41 @@ def run(scenario, robot, settings: dict, seed: int, duration: float, video: str 
                          f"{settings['controller']!r}")
     plant_only = {k: None if settings[k] in (None, "", "none") else float(settings[k])
                   for k in ("damping", "frictionloss", "armature")}
-    rig = ArmRig(robot, video=video, timestep=settings["physics_dt"], **plant_only)
+    chain = Signals(q_sigma=float(settings["q_sigma"]), qd_sigma=float(settings["qd_sigma"]),
+                    encoder_resolution=float(settings["encoder_resolution"]),
+                    measurement_delay=float(settings["measurement_delay"]),
+                    motor_delay=float(settings["motor_delay"]),
+                    motor_time_constant=float(settings["motor_time_constant"]))
+    rig = Rig(robot, chain, seed=seed, video=video, physics_dt=settings["physics_dt"],
+              **plant_only)
     plant, model = rig.plant, rig.model
     points = waypoints(scenario.reference, model, rig)
     plant.q0 = points[0]
     plant.reset()
     trajectory = kl.QuinticTrajectory(points, np.asarray(scenario.reference.t, float))
-    delay_ticks = common.ticks(settings["measurement_delay"])
-    ctrl = controller(robot, model, settings["controller"], points[0], delay_ticks=delay_ticks)
+    ctrl = controller(robot, model, settings["controller"], points[0],
+                      measurement_delay=common.ticks(settings["measurement_delay"]) * common.CONTROL_DT)
     estops = [e for e in scenario.events if isinstance(e, Estop)]
     if estops:
         config = kl.ArmSupervisorConfig()
         config.stop_deceleration = np.array([float(settings["stop_deceleration"])])
-        tick = SupervisedTick(ctrl, kl.ArmSupervisor(model, config), trajectory,
-                              min(e.t for e in estops))
+        reference = Supervised(ctrl, kl.ArmSupervisor(model, config), trajectory,
+                               min(e.t for e in estops))
     else:
-        tick = JointTrackingTick(ctrl, trajectory)
-    nonideal = native.NonIdeal(q_sigma=float(settings["q_sigma"]),
-                               qd_sigma=float(settings["qd_sigma"]),
-                               encoder_resolution=float(settings["encoder_resolution"]),
-                               motor_delay_ticks=common.ticks(settings["motor_delay"]),
-                               motor_time_constant=float(settings["motor_time_constant"]),
-                               seed=seed)
+        reference = JointTracking(ctrl, trajectory)
     tip = int(plant.model.site_bodyid[plant.model.site(plant.ee_site).id])
-    forces, payloads = [], []
+    events, payloads = [], []
     for i, e in enumerate(scenario.events):
         if isinstance(e, (Push, Payload)):
             body = tip if e.body is None else common.body_id(plant.model, e.body,
                                                              f"events[{i}].body")
             if isinstance(e, Push):
-                forces.append(native.force(e.t, body, [*e.force, 0.0, 0.0, 0.0], e.duration))
+                events.append((e.t, sil_events.Push(e.force, e.duration, body=body)))
             else:
                 payloads.append((common.ticks(e.t), body, e))
     stages = common.dropout_stages(scenario.events, {"joints": (0, 2 * model.nq)})
-    observe = native.Observe("q_true", "qd_true", "ee")
-    if not settings["native"]:
-        if forces or payloads or stages:
-            raise InputError("settings.native = false (the per-tick Python loop) runs "
-                             "no push, payload or sensor_dropout events on an arm")
-        log = rig.run(tick, duration, delay_ticks=delay_ticks, observe=observe, native=False,
-                      nonideal=nonideal)
-    else:
-        r = native.rollout(plant, tick.native_adapter(), duration, delay_ticks=delay_ticks,
-                           nonideal=nonideal, events=tick.native_events() + forces,
-                           observe=observe, stages=stages)
-        common.drive(r, plant.model, plant.data, payloads, video,
-                     plant.model.body(model.root_name).id if model.root_name else 1)
-        log = native.signal_log(r)
+    log = rig.run(duration, reference, events, observe=native.Observe("q_true", "qd_true", "ee"),
+                  stages=stages, hooks=common.payload_hooks(payloads))
     return signals(log, rig, model), components(model)
 
 

@@ -1,6 +1,6 @@
 """A scenario file seen as a scenario module (NAME, KIND, ROBOT, DEFAULTS, run, plot_signals), so
 that everything that takes a built-in scenario by name takes a file by its path: `kiloloop run`,
-`kiloloop sweep`, the batch runner (`kl.sil.run_scenarios`), the b2b recording. The file's
+`kiloloop sweep`, the batch runner (`kiloloop.scenarios.batch.run_scenarios`), the b2b recording. The file's
 family settings become DEFAULTS (so `--set` and `--grid` layer on them), its robot-file keys
 ROBOT_OVERRIDES (applied before `--set`'s)."""
 from __future__ import annotations

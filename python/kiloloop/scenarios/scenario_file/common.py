@@ -77,14 +77,12 @@ def attach_payload(model, body: int, mass: float, com) -> None:
     mujoco.mj_setConst(model, mujoco.MjData(model))
 
 
-def drive(rollout, plant_model, plant_data, payloads: list, video: str | None, camera_body: int):
-    """Runs the native rollout to its end, attaching each payload (tick, body id, Payload) once
-    its tick has run and capturing video frames between ticks (sil/native.drive)."""
+def payload_hooks(payloads: list) -> list:
+    """Rig.run hooks attaching each payload (tick, body id, Payload) once its tick has run."""
     def attach(body, p):
         return lambda model, _data: attach_payload(model, body, p.mass, p.com)
 
-    native.drive(rollout, plant_model, plant_data, video=video, camera_body=camera_body,
-                 hooks=[(tick, attach(body, p)) for tick, body, p in payloads])
+    return [(tick, attach(body, p)) for tick, body, p in payloads]
 
 
 def cumulative(flags: np.ndarray) -> np.ndarray:

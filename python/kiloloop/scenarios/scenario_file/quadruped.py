@@ -8,7 +8,9 @@ from __future__ import annotations
 import numpy as np
 
 from ...errors import InputError
-from ...sil.quadruped_rig import COMMON_DEFAULTS, CommandSchedule, rig_from_settings
+from ...sil import events as sil_events
+from ...sil.quadruped_family import CommandSchedule
+from ..quadruped_settings import COMMON_DEFAULTS, rig_from_settings
 from ..quadruped_metrics import fell_early, heading_velocity, roll_pitch
 from . import common
 from .events import Payload, Push
@@ -48,30 +50,14 @@ def run(scenario, robot, settings: dict, seed: int, duration: float, video: str 
                 if body != base:
                     raise InputError(f"events[{i}].body: pushes act on the trunk "
                                      f"({rig.plant.base_body}) on a quadruped")
-                pushes.append((e.t, _push(e)))
+                pushes.append((e.t, sil_events.Push(e.force, e.duration)))
             else:
                 payloads.append((common.ticks(e.t), body, e))
     stages = common.dropout_stages(scenario.events, {"joints": (0, 2 * JOINTS),
                                                      "imu": (2 * JOINTS, 10)})
-    stop = fell_early(rig)
-    if not settings["native"]:
-        if payloads or stages:
-            raise InputError("settings.native = false (the per-tick Python loop) runs "
-                             "no payload or sensor_dropout events on a quadruped")
-        log = rig.run(duration, schedule, events=pushes, stop_when=stop, native=False)
-    else:
-        r = rig.native_rollout(duration, schedule, events=pushes, stop_when=stop, stages=stages)
-        common.drive(r, rig.plant.model, rig.plant.data, payloads, video, base)
-        from ...sil import native
-
-        log = native.signal_log(r)
+    log = rig.run(duration, schedule, pushes, stop=fell_early(rig), stages=stages,
+                  hooks=common.payload_hooks(payloads))
     return signals(log, rig, v), components(rig)
-
-
-def _push(e):
-    from ...sil.quadruped_rig import Push as RigPush
-
-    return RigPush(e.force, e.duration)
 
 
 def signals(log, rig, v):

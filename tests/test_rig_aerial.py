@@ -1,18 +1,18 @@
-"""The aerial native SIL loop (cpp/sil/aerial_adapter.hpp) against its per-tick Python loop
-(sil/aerial_rig.py): the same C++ sensor model, attitude-noise stage, motor delay and wind model,
-the same reference table, the same seed -> the same log, bit for bit; events (pushes at the
-vehicle's CoM, rotor faults), batch threads and the adapter's checks."""
-import json
-
+"""The rig (sil/rig.py) on a multirotor (sil/aerial_family.py, cpp/sil/aerial_adapter.hpp):
+events (pushes at the vehicle's CoM, rotor faults) and the wind act, seeds reproduce, batch threads,
+the reference table and the adapter's checks, a non-finite state."""
 import mujoco
 import numpy as np
 import pytest
 
 import kiloloop as kl
 from kiloloop import scenarios
+from kiloloop.errors import InputError
 from kiloloop.scenarios import aerial_hover
-from kiloloop.sil import aerial_rig, batch, native
-from kiloloop.sil.aerial_rig import Push, RotorFault, Wind, reference_table, rig_from_settings
+from kiloloop.scenarios.aerial_settings import rig_from_settings
+from kiloloop.sil import aerial_family, aerial_signals, batch, native
+from kiloloop.sil.aerial_signals import Wind, reference_table
+from kiloloop.sil.events import GAIN, Push, RotorFault
 from kiloloop.scenarios.aerial_metrics import hold
 
 pytestmark = pytest.mark.skipif(not native.available(), reason="built without the native loop")
@@ -30,18 +30,6 @@ def rig(seed=0, **overrides):
     return rig_from_settings(scenarios.parse_settings(aerial_hover.DEFAULTS, overrides), seed)
 
 
-# Every aerial scenario, short: the scenario's own events and disturbances (push at 1 s, rotor
-# fault at 1 s, wind, the attitude step at 0.5 s, the reach and the sweep from 0.5 s).
-@pytest.mark.parametrize("name, duration", [
-    ("aerial-hover", 0.5), ("aerial-push", 1.2), ("aerial-rotor-fault", 1.1), ("aerial-wind", 0.4),
-    ("aerial-attitude-step", 0.6), ("aerial-reach", 0.7), ("aerial-arm-sweep", 0.7)])
-def test_scenario_native_equals_python_loop(name, duration):
-    fast = scenarios.run_named(name, duration=duration)
-    slow = scenarios.run_named(name, overrides={"native": "false"}, duration=duration)
-    assert_same_log(fast.log, slow.log)
-    assert json.dumps(fast.metrics) == json.dumps(slow.metrics)
-
-
 def test_events_and_wind_act_on_the_vehicle():
     quiet = rig(seed=2).run(1.0, hold(rig()))
     r = rig(seed=2)
@@ -55,7 +43,7 @@ def test_events_and_wind_act_on_the_vehicle():
     assert abs(ratio[300:500].mean() - 1.0) < 0.05 and abs(ratio[800:1000].mean() - 0.5) < 0.05
     r = rig(seed=2)
     wind = Wind(np.array([5.0, 0.0, 0.0]), 0.2, 1.0, 0.5, 0.05, seed=7)
-    windy = r.run(1.0, hold(r), disturbance=wind)
+    windy = r.run(1.0, hold(r), disturbances=[wind])
     f = windy["wind_force"]
     # Ramped in from zero; then about 1/2 1.225 0.05 5^2 = 0.77 N along the wind.
     assert abs(f[0, 0]) < 0.1 and f[900:, 0].mean() > 0.5
@@ -73,15 +61,14 @@ def test_same_seed_same_log_other_seed_other_noise():
 def test_batch_on_two_threads_equals_one_by_one():
     r = rig()
     command = hold(r)
-    table = reference_table(r.controller, command, 300)
     logs = {}
     for threads in (1, 2):
         rollouts = []
         for seed in (0, 1, 2):
             data = mujoco.MjData(r.plant.model)
             mujoco.mj_copyData(data, r.plant.model, r.plant.data)
-            adapter = r.native_adapter(table, kl.AerialController(r.model, r.config))
-            rollouts.append(r.native_rollout(0.3, command, data=data, seed=seed, adapter=adapter))
+            adapter = r.adapter(command, kl.AerialController(r.model, r.config), 300)
+            rollouts.append(r.rollout(0.3, command, data=data, seed=seed, adapter=adapter))
         batch.run(rollouts, threads=threads)
         assert all(x.ok and x.ticks_run == 300 for x in rollouts)
         logs[threads] = [native.signal_log(x) for x in rollouts]
@@ -100,7 +87,7 @@ def test_reference_table_is_what_the_command_sets_each_tick():
         inp.quat_ref[:] = step
 
     table = reference_table(r.controller, command, 4)
-    assert aerial_rig.REFERENCE_WIDTH == native._native.AERIAL_REFERENCE_WIDTH
+    assert aerial_signals.REFERENCE_WIDTH == native._native.AERIAL_REFERENCE_WIDTH
     assert table.shape == (4, native._native.AERIAL_REFERENCE_WIDTH + 3 * r.controller.nq)
     np.testing.assert_array_equal(table[:, 2], [1.0, 1.001, 1.002, 1.003])
     np.testing.assert_array_equal(table[:, 10], [0, 0, 1, 1])
@@ -119,31 +106,29 @@ def test_bad_tables_and_events_are_refused():
     bad[1, 0] = np.nan
     with pytest.raises(ValueError, match="non-finite"):
         native._native.aerial_adapter(r.controller, to_ctrl, bad)
-    with pytest.raises(ValueError, match="rotor"):
-        r.native_rollout(0.1, hold(r), events=[(0.0, RotorFault(99, 0.5))])
-    adapter = r.native_adapter(np.zeros((1, width)))
-    addr, source = r.measurement()
+    with pytest.raises(InputError, match="rotor"):
+        r.rollout(0.1, hold(r), events=[(0.0, RotorFault(99, 0.5))])
+    adapter = native._native.aerial_adapter(r.controller, to_ctrl, np.zeros((1, width)))
+    m = r.family.measurement(r.parts, r.signals, 0, None)
+    addr, source = m.addresses, m.sources
     with pytest.raises(ValueError, match="gain event"):
         native._native.Rollout(r.plant.model, r.plant.data, adapter, ticks=1, measurement=addr,
                                measurement_source=source,
                                actuators=[int(a) for a in r.plant._rotor_act] + [int(a) for a in r.plant._act],
-                               events=[(0.0, native.GAIN, [1e6, 0.5])])
+                               events=[(0.0, GAIN, [1e6, 0.5])])
     with pytest.raises(ValueError, match="measurement_source"):
         native._native.Rollout(r.plant.model, r.plant.data, adapter, ticks=1, measurement=addr,
                                measurement_source=[5] * len(addr),
                                actuators=[int(a) for a in r.plant._rotor_act] + [int(a) for a in r.plant._act])
 
 
-def test_a_non_finite_state_gives_a_status_and_the_same_log_in_both_loops(tmp_path, monkeypatch):
+def test_a_non_finite_state_gives_a_status_and_finite_commands(tmp_path, monkeypatch):
     monkeypatch.chdir(tmp_path)  # MuJoCo writes its warning to MUJOCO_LOG.TXT in the cwd
-    logs = []
-    for native_loop in (True, False):
-        r = rig()
-        r.plant.data.qvel[:] = np.nan  # the controller sees NaN; MuJoCo warns and resets the state
-        logs.append(r.run(0.05, hold(r), native=native_loop))
-    assert_same_log(*logs)
-    assert logs[0]["status"][0] == int(kl.Status.NON_FINITE_MEASUREMENT)
-    assert np.all(np.isfinite(logs[0]["thrust_cmd"]))
+    r = rig()
+    r.plant.data.qvel[:] = np.nan  # the controller sees NaN; MuJoCo warns and resets the state
+    log = r.run(0.05, hold(r))
+    assert log["status"][0] == int(kl.Status.NON_FINITE_MEASUREMENT)
+    assert np.all(np.isfinite(log["thrust_cmd"]))
 
 
 def test_attitude_noise_is_a_small_unit_rotation_of_the_given_sigma():
@@ -165,7 +150,7 @@ def test_attitude_noise_is_a_small_unit_rotation_of_the_given_sigma():
 def test_wind_force_is_the_drag_of_the_logged_wind_on_the_logged_velocity():
     r = rig(seed=1)
     wind = Wind(np.array([3.0, 4.0, 0.0]), 0.3, 1.5, 0.5, 0.05, seed=11)
-    log = r.run(0.6, hold(r), disturbance=wind)
+    log = r.run(0.6, hold(r), disturbances=[wind])
     rel = log["wind"] - log["base_vel"]
     expected = 0.5 * 1.225 * 0.05 * np.linalg.norm(rel, axis=1)[:, None] * rel
     np.testing.assert_allclose(log["wind_force"], expected, rtol=1e-12, atol=1e-15)
@@ -180,7 +165,7 @@ def test_a_commands_own_table_equals_sampling_it_tick_by_tick(module, monkeypatc
     import importlib
 
     seen = {}
-    real = aerial_rig.reference_table
+    real = aerial_family.reference_table
 
     def both(controller, command, ticks):
         fast = real(controller, command, ticks)
@@ -191,7 +176,7 @@ def test_a_commands_own_table_equals_sampling_it_tick_by_tick(module, monkeypatc
         seen["fast"], seen["slow"] = fast, slow
         return fast
 
-    monkeypatch.setattr(aerial_rig, "reference_table", both)
+    monkeypatch.setattr(aerial_family, "reference_table", both)
     mod = importlib.import_module(f"kiloloop.scenarios.{module}")
     scenarios.run_named(mod.NAME, duration=1.2)
     np.testing.assert_array_equal(seen["fast"], seen["slow"])
