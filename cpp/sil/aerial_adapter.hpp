@@ -30,7 +30,9 @@ class AerialAdapter final : public Adapter {
   void declare(LogBuffer& log) override;
   int step(double t, double stamp, const double* y, double* u, LogBuffer& log, int k) noexcept override;
   IoRecordBytes io_record_bytes() const override { return sil::io_record_bytes(in_, out_); }
-  void write_io_record(unsigned char* p) const noexcept override { sil::write_io_record(in_, out_, p); }
+  void write_io_record(const IoRecordBytes& sizes, unsigned char* p) const noexcept override {
+    sil::write_io_record(in_, out_, sizes, p);
+  }
   static int width(int nq) { return kReferenceWidth + 3 * nq; }
 
  private:

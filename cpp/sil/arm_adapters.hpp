@@ -46,7 +46,9 @@ class JointTrackingAdapter final : public Adapter {
   void on_event(const Event& event) noexcept override;
   int step(double t, double stamp, const double* y, double* u, LogBuffer& log, int k) noexcept override;
   IoRecordBytes io_record_bytes() const override { return sil::io_record_bytes(in_, out_); }
-  void write_io_record(unsigned char* p) const noexcept override { sil::write_io_record(in_, out_, p); }
+  void write_io_record(const IoRecordBytes& sizes, unsigned char* p) const noexcept override {
+    sil::write_io_record(in_, out_, sizes, p);
+  }
 
  private:
   JointTorqueController* c_;
@@ -91,7 +93,9 @@ class SupervisedAdapter final : public Adapter {
   void on_event(const Event& event) noexcept override;
   int step(double t, double stamp, const double* y, double* u, LogBuffer& log, int k) noexcept override;
   IoRecordBytes io_record_bytes() const override { return sil::io_record_bytes(cin_, cout_); }
-  void write_io_record(unsigned char* p) const noexcept override { sil::write_io_record(cin_, cout_, p); }
+  void write_io_record(const IoRecordBytes& sizes, unsigned char* p) const noexcept override {
+    sil::write_io_record(cin_, cout_, sizes, p);
+  }
 
  private:
   JointTorqueController* c_;

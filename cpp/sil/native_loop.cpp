@@ -281,7 +281,7 @@ void Rollout::tick(int k) {
   for (size_t i = 0; i < config_.disturbances.size(); ++i)
     config_.disturbances[i]->update(t, m_, d_, wrenches_.data() + 6 * i, log_, k);
   adapter_->step(t, stamp, y, u_.data(), log_, k);
-  if (!io_.empty()) adapter_->write_io_record(io_.data() + static_cast<size_t>(k) * io_bytes_.total());
+  if (!io_.empty()) adapter_->write_io_record(io_bytes_, io_.data() + static_cast<size_t>(k) * io_bytes_.total());
   motor_.push(u_.data(), u_applied_.data());
   for (int i = 0; i < nu; ++i) d_->ctrl[config_.actuators[i]] = u_applied_[i];
   for (int s = 0; s < substeps_; ++s) physics_step(s == substeps_ - 1);

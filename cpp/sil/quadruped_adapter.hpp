@@ -29,7 +29,9 @@ class QuadrupedAdapter final : public Adapter {
   void on_event(const Event& event) noexcept override;
   int step(double t, double stamp, const double* y, double* u, LogBuffer& log, int k) noexcept override;
   IoRecordBytes io_record_bytes() const override { return sil::io_record_bytes(in_, out_); }
-  void write_io_record(unsigned char* p) const noexcept override { sil::write_io_record(in_, out_, p); }
+  void write_io_record(const IoRecordBytes& sizes, unsigned char* p) const noexcept override {
+    sil::write_io_record(in_, out_, sizes, p);
+  }
   // [m] per foot, trunk frame (QuadrupedInput::foothold_offset), from the next tick on.
   void set_foothold_offset(const Vector12d& offset) noexcept { in_.foothold_offset = offset; }
 
