@@ -6,12 +6,14 @@ scenario).
 A tick with `native_adapter()` also runs in the native loop (sil/native.py): its C++ twin
 (cpp/sil/arm_adapters.cpp) makes the same calls on the same controller and reference objects and
 logs the same signals; `native_events()` gives what the tick decides from time (the e-stop).
+arm-press has no per-tick tick: its adapter is C++ only (cpp/sil/press_adapter.hpp,
+native.press_adapter).
 """
 from __future__ import annotations
 
 import numpy as np
 
-from . import arm_scene, native
+from . import native
 from .log import SignalLog
 from .loop import Measurement
 
@@ -104,43 +106,3 @@ class SupervisedTick:
 
     def native_events(self) -> list:
         return [native.estop(self.t_estop)]
-
-
-def _quintic(s):
-    """Rest-to-rest blend on s in [0, 1]: value, first and second derivative w.r.t. s."""
-    s = min(max(s, 0.0), 1.0)
-    return (10 * s**3 - 15 * s**4 + 6 * s**5, 30 * s**2 - 60 * s**3 + 30 * s**4,
-            60 * s - 180 * s**2 + 120 * s**3)
-
-
-class PressTick:
-    """Maps measurement, force sensor and the slide reference onto the controller (glue only)."""
-
-    def __init__(self, controller, plant, tip, p0, R0, settings):
-        self.c, self.plant, self.tip, self.settings = controller, plant, tip, settings
-        self.input, self.output = controller.make_input(), controller.make_output()
-        self.p0 = p0
-        self.input.R_ref = R0
-        self.input.wrench_ref = np.array([0.0, 0.0, -settings["force"], 0.0, 0.0, 0.0])
-
-    def reference(self, t):
-        st = self.settings
-        s, ds, dds = _quintic((t - st["settle"]) / st["slide_time"])
-        T = st["slide_time"]
-        return (self.p0[0] + st["slide"] * s, st["slide"] * ds / T, st["slide"] * dds / T**2)
-
-    def __call__(self, m: Measurement, log: SignalLog) -> np.ndarray:
-        inp = self.input
-        inp.t, inp.stamp = m.t, m.stamp
-        inp.q[:], inp.qd[:] = m.q, m.qd
-        x, xd, xdd = self.reference(m.t)
-        inp.p_ref[:] = [x, self.p0[1], self.p0[2]]
-        inp.twist_ref[0], inp.accel_ref[0] = xd, xdd
-        force = arm_scene.tip_force_world(self.plant, self.tip)  # sampled with q (same stamp)
-        inp.wrench_measured[:3] = force
-        status = self.c.step(inp, self.output)
-        log.record("x_ref", x)
-        log.record("force", force)
-        log.record("tau", self.output.tau)
-        log.record("status", int(status))
-        return self.output.tau.copy()

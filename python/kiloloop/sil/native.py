@@ -42,6 +42,12 @@ ESTOP, REFERENCE, FORCE, GAIN = 0, 1, 2, 3
 # Probe sources (cpp/sil/native_loop.hpp).
 (_SENSOR, _SITE_POS, _SITE_MAT, _BODY_POS, _BODY_QUAT, _QPOS, _QVEL, _BODIES_POS,
  _CONTACT_FORCE, _SUBTREE_COM, _ACTUATOR_FORCE, _BODY_MAT, _SITES_POS) = range(13)
+# Computed each tick, one value: contacts (d->ncon entries) involving any of the geoms; the
+# smallest signed distance [m] from a geom to others (mj_geomDistance, capped at 1 m).
+_CONTACT_COUNT, _GEOM_DISTANCE = 13, 14
+# arm-press's adapter (cpp/sil/press_adapter.hpp): press_adapter(controller, p0, R0, force,
+# settle, slide, slide_time), y = [q; qd; f_site (3); site quat (4)] (extra_measurement below).
+press_adapter = _native.press_adapter if _native.available else None
 
 
 def _load_mujoco() -> str:
@@ -188,24 +194,28 @@ def ticks_of(duration: float, control_dt: float = 0.001) -> int:
 
 def rollout(plant, adapter, duration: float, *, data=None, delay_ticks: int = 0,
             nonideal: NonIdeal | None = None, events=(), observe: Observe | None = None,
-            control_dt: float = 0.001, stages=()):
+            control_dt: float = 0.001, stages=(), extra_measurement=(), probes=()):
     """A configured native Rollout of an arm-shaped plant (sil/plant.py MujocoPlant: y = [q; qd]
     from its joint sensors, u = its motors). data: another MjData of plant.model (a batch gives
     each rollout its own); default the plant's own. A new `mujoco.MjData(plant.model)` starts
     where the plant is (start_state); a data you set up yourself starts from its own state.
-    stages: C++ measurement stages after the sensor model (a sensor dropout). Run it with .run()
-    or batch.run()."""
+    stages: C++ measurement stages after the sensor model (a sensor dropout). extra_measurement:
+    sensordata addresses appended to y (arm-press's force sensor; the noise model leaves them
+    alone); probes: more (name, source, index) probes after observe's (contact_count,
+    geom_distance). Run it with .run() or batch.run()."""
     check()
     nonideal = nonideal or NonIdeal()
     sigma, quantum = nonideal.arrays(plant.nq)
-    measurement = [int(a) for a in plant._pos_sens] + [int(a) for a in plant._vel_sens]
+    measurement = ([int(a) for a in plant._pos_sens] + [int(a) for a in plant._vel_sens]
+                   + [int(a) for a in extra_measurement])
     return _native.Rollout(
         plant.model, start_state(plant, data), adapter,
         ticks=ticks_of(duration, control_dt), control_dt=control_dt, measurement=measurement,
         actuators=[int(a) for a in plant._act], delay_ticks=int(delay_ticks), sigma=sigma,
         quantum=quantum, seed=int(nonideal.seed), motor_delay_ticks=int(nonideal.motor_delay_ticks),
         motor_time_constant=float(nonideal.motor_time_constant), events=list(events),
-        probes=observe.probes(plant) if observe is not None else [], stages=list(stages))
+        probes=(observe.probes(plant) if observe is not None else []) + list(probes),
+        stages=list(stages))
 
 
 def start_state(plant, data=None):
@@ -289,3 +299,16 @@ class _SensedPlant:
 
     def qd(self) -> np.ndarray:
         return self._qd
+
+
+def contact_count(name: str, geoms) -> tuple:
+    """Probe: per tick the number of active contacts (d.ncon entries) involving any of the geom
+    ids (a contact counted once), as a float; read where observe() reads (arm_scene.contacts_with
+    for one geom)."""
+    return (name, _CONTACT_COUNT, [int(g) for g in geoms])
+
+
+def geom_distance(name: str, geom: int, others) -> tuple:
+    """Probe: per tick the smallest signed distance [m] from geom to any of others, capped at
+    1 m (arm_scene.min_distance)."""
+    return (name, _GEOM_DISTANCE, [int(geom)] + [int(g) for g in others])
