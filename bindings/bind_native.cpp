@@ -14,7 +14,9 @@
 #include <type_traits>
 #include <vector>
 
+#include "kiloloop/control/cartesian_impedance.hpp"
 #include "kiloloop/control/computed_torque.hpp"
+#include "kiloloop/control/hybrid_force_position.hpp"
 #include "kiloloop/control/joint_pd_gravity.hpp"
 #include "sil/aerial_adapter.hpp"
 #include "sil/arm_adapters.hpp"
@@ -25,6 +27,7 @@
 #include "sil/legged_sensor_stages.hpp"
 #include "sil/mujoco_api.hpp"
 #include "sil/native_loop.hpp"
+#include "sil/press_adapter.hpp"
 #include "sil/quadruped_adapter.hpp"
 #include "sil/smooth_heightfield.hpp"
 #include "sil/wind_drag.hpp"
@@ -61,6 +64,12 @@ JointTorqueController* joint_controller(const py::object& c) {
   if (py::isinstance<ComputedTorqueController>(c)) return &c.cast<ComputedTorqueController&>();
   if (py::isinstance<JointPdGravityController>(c)) return &c.cast<JointPdGravityController&>();
   throw py::value_error("controller: expected a ComputedTorqueController or JointPdGravityController");
+}
+
+CartesianTorqueController* cartesian_torque_controller(const py::object& c) {
+  if (py::isinstance<HybridForcePositionController>(c)) return &c.cast<HybridForcePositionController&>();
+  if (py::isinstance<CartesianImpedanceController>(c)) return &c.cast<CartesianImpedanceController&>();
+  throw py::value_error("controller: expected a HybridForcePositionController or CartesianImpedanceController");
 }
 
 JointReference joint_reference(const py::object& r, int nq) {
@@ -156,19 +165,40 @@ void bind_native(py::module_& parent) {
         py::arg("controller"), py::arg("supervisor"), py::arg("trajectory"),
         "y = [q; qd] -> joint controller -> ArmSupervisor (e-stop events) (SupervisedTick)");
 
+  m.def("press_adapter",
+        [](py::object controller, const Eigen::Vector3d& p0, const Eigen::Matrix3d& R0, double force,
+           double settle, double slide, double slide_time) {
+          CartesianTorqueController* c = cartesian_torque_controller(controller);
+          if (!(slide_time > 0.0) || !std::isfinite(settle) || !std::isfinite(slide) || !std::isfinite(force) ||
+              !p0.allFinite() || !R0.allFinite())
+            throw py::value_error("press_adapter: expected finite p0, R0, force, settle, slide and slide_time > 0");
+          PressSlide s;
+          s.p0 = p0;
+          s.settle = settle;
+          s.slide = slide;
+          s.slide_time = slide_time;
+          return PyAdapter{std::make_shared<PressAdapter>(c, s, R0, force), {controller}};
+        },
+        py::arg("controller"), py::arg("p0"), py::arg("R0"), py::arg("force"), py::arg("settle"),
+        py::arg("slide"), py::arg("slide_time"),
+        "y = [q; qd; f_site (3); site quat (4)] -> hybrid force/position or impedance pressing `force` [N] "
+        "down while p_ref slides `slide` [m] along x on a quintic from `settle` [s] (arm-press)");
   m.def("quadruped_adapter",
-        [](py::object controller, std::array<int, 12> to_ctrl, int gait, const Eigen::Vector3d& velocity) {
+        [](py::object controller, std::array<int, 12> to_ctrl, int gait, const Eigen::Vector3d& velocity,
+           bool ground_truth) {
           auto* c = &controller.cast<QuadrupedController&>();
           for (int j : to_ctrl)
             if (j < 0 || j >= 12) throw py::value_error("to_ctrl: expected plant joint indices 0..11");
           if (gait != 0 && gait != 1) throw py::value_error("gait: expected 0 (stand) or 1 (trot)");
-          return PyAdapter{std::make_shared<QuadrupedAdapter>(c, to_ctrl, static_cast<Gait>(gait), velocity),
+          return PyAdapter{std::make_shared<QuadrupedAdapter>(c, to_ctrl, static_cast<Gait>(gait), velocity,
+                                                              ground_truth),
                            {controller}};
         },
         py::arg("controller"), py::arg("to_ctrl"), py::arg("gait") = 0,
-        py::arg("velocity") = Eigen::Vector3d::Zero().eval(),
+        py::arg("velocity") = Eigen::Vector3d::Zero().eval(), py::arg("ground_truth") = false,
         "y = [q; qd; gyro; accel; quat] (plant order) -> QuadrupedController -> tau (plant order); "
-        "to_ctrl[j]: plant index of controller joint j; commands as reference events {gait, vx, vy, wz}");
+        "to_ctrl[j]: plant index of controller joint j; commands as reference events {gait, vx, vy, wz}; "
+        "ground_truth: y += [base pos (3); base quat (4); base lin vel (3)] (qpos / qvel) fed to the controller");
   m.def("set_foothold_offset",
         [](PyAdapter& a, const Vector12d& offset) {
           auto* q = dynamic_cast<QuadrupedAdapter*>(a.adapter.get());
@@ -300,7 +330,8 @@ void bind_native(py::module_& parent) {
                auto p = item.cast<py::tuple>();
                if (p.size() != 3) throw py::value_error("probes: expected (name, source, index) tuples");
                const int source = p[1].cast<int>();
-               if (source < 0 || source > 12) throw py::value_error("probes: source must be 0..12");
+               if (source < 0 || source > Probe::kLastSource)
+                 throw py::value_error("probes: source must be 0.." + std::to_string(Probe::kLastSource));
                config.probes.push_back(Probe{p[0].cast<std::string>(), static_cast<Probe::Source>(source),
                                              p[2].cast<std::vector<int>>()});
              }

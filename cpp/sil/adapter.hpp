@@ -30,10 +30,14 @@ class Adapter {
   virtual int step(double t, double stamp, const double* y, double* u, LogBuffer& log, int k) noexcept = 0;
   // The back-to-back log (kiloloop/firmware/record.hpp): bytes of the stepped controller's input
   // and output records ({0, 0}: its controller has no firmware family), and the records of the
-  // tick just stepped, input then output, into out (the sum of those bytes). Configure time and
-  // after step respectively; allocation-free.
+  // tick just stepped, input then output, into out (sizes: what io_record_bytes returned, kept
+  // by the caller; sizes.total() bytes). Configure time and after step respectively;
+  // allocation-free.
   virtual IoRecordBytes io_record_bytes() const { return {}; }
-  virtual void write_io_record(unsigned char* out) const noexcept { (void)out; }
+  virtual void write_io_record(const IoRecordBytes& sizes, unsigned char* out) const noexcept {
+    (void)sizes;
+    (void)out;
+  }
 };
 
 }  // namespace kiloloop::sil

@@ -1,14 +1,14 @@
 #pragma once
-// Native SIL adapter of the aerial family, the C++ twin of the per-tick loop in
-// python/kiloloop/sil/aerial_rig.py: the same AerialController call on the same signals, logging
-// the same channels, so a native run and a per-tick Python run give the same log.
+// Native SIL adapter of the aerial family (python/kiloloop/sil/aerial_family.py builds it): maps
+// the measurement and the reference table onto the AerialController and its output onto the
+// rotors and arm motors, logging the controller's channels.
 //   y = [position (3); velocity (3); gyro (3); accel (3); quat (4); q (nq); qd (nq)]
 //       body origin position [m] and linear velocity [m/s] (world: the motion-capture stand-in,
 //       the free joint's qpos / qvel), the IMU site's sensors, the arm encoders in plant order
 //   u = [thrust (n rotors) [N]; tau (nq) [N m] plant order]
 // References are data: a table sampled on the tick grid (row k for tick k; the last row after
-// its end), one row = kReferenceWidth + 3 nq values in the order of the Ref enum below (the
-// per-tick Python loop reads the same table: sil/aerial_rig.py reference_table).
+// its end), one row = kReferenceWidth + 3 nq values in the order of the Ref enum below
+// (sil/aerial_signals.py reference_table samples a scenario's command into it).
 #include <vector>
 
 #include "kiloloop/aerial/aerial_controller.hpp"
@@ -30,7 +30,9 @@ class AerialAdapter final : public Adapter {
   void declare(LogBuffer& log) override;
   int step(double t, double stamp, const double* y, double* u, LogBuffer& log, int k) noexcept override;
   IoRecordBytes io_record_bytes() const override { return sil::io_record_bytes(in_, out_); }
-  void write_io_record(unsigned char* p) const noexcept override { sil::write_io_record(in_, out_, p); }
+  void write_io_record(const IoRecordBytes& sizes, unsigned char* p) const noexcept override {
+    sil::write_io_record(in_, out_, sizes, p);
+  }
   static int width(int nq) { return kReferenceWidth + 3 * nq; }
 
  private:

@@ -1,7 +1,7 @@
 #pragma once
-// Native SIL adapters of the arm family, the C++ twins of python/kiloloop/sil/arm_adapters.py
-// (JointTrackingTick, CartesianTick, SupervisedTick): the same controller calls in the same order,
-// logging the same signals, so a native run and a per-tick Python run give the same log.
+// Native SIL adapters of the arm family, built by the references of python/kiloloop/sil/
+// arm_adapters.py (JointTracking, CartesianTracking, Supervised): each maps y = [q; qd] and its
+// reference onto one controller and logs its signals.
 // The controllers and references are the ones the Python side configured (borrowed pointers:
 // the binding keeps their Python objects alive for the adapter's lifetime).
 #include <variant>
@@ -46,7 +46,9 @@ class JointTrackingAdapter final : public Adapter {
   void on_event(const Event& event) noexcept override;
   int step(double t, double stamp, const double* y, double* u, LogBuffer& log, int k) noexcept override;
   IoRecordBytes io_record_bytes() const override { return sil::io_record_bytes(in_, out_); }
-  void write_io_record(unsigned char* p) const noexcept override { sil::write_io_record(in_, out_, p); }
+  void write_io_record(const IoRecordBytes& sizes, unsigned char* p) const noexcept override {
+    sil::write_io_record(in_, out_, sizes, p);
+  }
 
  private:
   JointTorqueController* c_;
@@ -91,7 +93,9 @@ class SupervisedAdapter final : public Adapter {
   void on_event(const Event& event) noexcept override;
   int step(double t, double stamp, const double* y, double* u, LogBuffer& log, int k) noexcept override;
   IoRecordBytes io_record_bytes() const override { return sil::io_record_bytes(cin_, cout_); }
-  void write_io_record(unsigned char* p) const noexcept override { sil::write_io_record(cin_, cout_, p); }
+  void write_io_record(const IoRecordBytes& sizes, unsigned char* p) const noexcept override {
+    sil::write_io_record(cin_, cout_, sizes, p);
+  }
 
  private:
   JointTorqueController* c_;

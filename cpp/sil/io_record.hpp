@@ -19,11 +19,12 @@ IoRecordBytes io_record_bytes(const In& in, const Out& out) {
   return {record_bytes(in), record_bytes(out)};
 }
 
-// Input record, then output record (sized like io_record_bytes at configure).
+// Input record, then output record, at p; sizes: io_record_bytes(in, out) from configure (the
+// rollout keeps it), so a recorded tick does not walk the input's fields twice to size it.
 template <class In, class Out>
-void write_io_record(const In& in, const Out& out, unsigned char* p) noexcept {
+void write_io_record(const In& in, const Out& out, const IoRecordBytes& sizes, unsigned char* p) noexcept {
   write_record(in, p);
-  write_record(out, p + record_bytes(in));
+  write_record(out, p + sizes.input);
 }
 
 }  // namespace kiloloop::sil

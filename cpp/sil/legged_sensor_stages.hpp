@@ -1,8 +1,7 @@
 #pragma once
-// Realistic legged-robot sensors as stages of the measurement path (sil/sensor_stage.hpp), one
-// C++ implementation for both SIL loops: the native loop runs them from RolloutConfig::
-// sensor_stages, the per-tick Python loop calls the very same objects through the bindings, so
-// the two logs stay equal (tests/test_native_quadruped.py).
+// Realistic legged-robot sensors as stages of the measurement path (sil/sensor_stage.hpp): the
+// native loop runs them from RolloutConfig::sensor_stages (a test may call one through the
+// bindings, SensorStage.apply).
 //   ImuStage:          y[offset .. offset+6) = [gyro (3); accel (3)] through the MEMS error model
 //                      (sil/imu_model.hpp: white noise, bias random walk, seeded turn-on bias).
 //   JointEncoderStage: y[q_offset .. +n) = raw joint angles (the SensorModel must leave them

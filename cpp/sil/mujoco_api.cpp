@@ -26,7 +26,9 @@ bool load_mujoco_api(const std::string& path, std::string* why) {
   MujocoApi api;
   if (!resolve(handle, "mj_step", &api.step, why) || !resolve(handle, "mj_step1", &api.step1, why) ||
       !resolve(handle, "mj_step2", &api.step2, why) ||
-      !resolve(handle, "mj_contactForce", &api.contact_force, why) || !resolve(handle, "mj_version", &api.version, why) ||
+      !resolve(handle, "mj_contactForce", &api.contact_force, why) ||
+      !resolve(handle, "mj_geomDistance", &api.geom_distance, why) ||
+      !resolve(handle, "mj_version", &api.version, why) ||
       !resolve(handle, "mj_versionString", &api.version_string, why) ||
       !resolve(handle, "mjCOLLISIONFUNC", &api.collision_table, why))
     return false;

@@ -16,6 +16,9 @@ struct MujocoApi {
   void (*step1)(const mjModel*, mjData*) = nullptr;
   void (*step2)(const mjModel*, mjData*) = nullptr;
   void (*contact_force)(const mjModel*, const mjData*, int, mjtNum*) = nullptr;
+  // mj_geomDistance: smallest signed distance between two geoms [m], capped at distmax (uses
+  // the data's stack, no heap allocation).
+  mjtNum (*geom_distance)(const mjModel*, mjData*, int, int, mjtNum, mjtNum*) = nullptr;
   int (*version)() = nullptr;
   const char* (*version_string)() = nullptr;
   // MuJoCo's table of narrow-phase collision functions by geom type pair (a data symbol, exported

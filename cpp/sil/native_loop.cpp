@@ -36,13 +36,15 @@ int probe_width(const mjModel* m, const Probe& p, std::vector<int>* shape, std::
       *shape = {static_cast<int>(p.index.size()), 3};
       if (!p.index.empty() && in_range(m->nsite)) return 3 * shape->at(0);
       break;
+    case S::kContactCount: *shape = {}; if (!p.index.empty() && in_range(m->ngeom)) return 1; break;
+    case S::kGeomDistance: *shape = {}; if (p.index.size() >= 2 && in_range(m->ngeom)) return 1; break;
   }
   *why = "probe " + p.name + ": index out of range for this model";
   return -1;
 }
 // Where each logged element of probe p is read, in log order: the data's arrays (they do not
-// move while the data lives) or the probe's contact-force accumulator.
-void probe_sources(const mjData* d, const Probe& p, const ContactForces& contact,
+// move while the data lives), the probe's contact-force accumulator or its computed value.
+void probe_sources(const mjData* d, const Probe& p, const ContactForces& contact, const double* value,
                    std::vector<const double*>* out) {
   using S = Probe::Source;
   const int i0 = p.index.empty() ? 0 : p.index[0];
@@ -63,7 +65,34 @@ void probe_sources(const mjData* d, const Probe& p, const ContactForces& contact
     case S::kBodiesPos: for (int b : p.index) span(d->xpos + 3 * b, 3); break;
     case S::kSitesPos: for (int s : p.index) span(d->site_xpos + 3 * s, 3); break;
     case S::kContactForce: span(contact.forces().data(), static_cast<int>(contact.forces().size())); break;
+    case S::kContactCount:
+    case S::kGeomDistance: out->push_back(value); break;
   }
+}
+
+// Contacts of the data (d->ncon) with geom1 or geom2 among geoms, each counted once.
+int contacts_involving(const mjData* d, const std::vector<int>& geoms) noexcept {
+  int n = 0;
+  for (int i = 0; i < d->ncon; ++i) {
+    const mjContact& c = d->contact[i];
+    if (std::find(geoms.begin(), geoms.end(), c.geom[0]) != geoms.end() ||
+        std::find(geoms.begin(), geoms.end(), c.geom[1]) != geoms.end())
+      ++n;
+  }
+  return n;
+}
+
+// Smallest signed distance [m] from geoms[0] to geoms[1..] (MuJoCo's narrow phase on the data's
+// current geom poses), at most distmax; the minimum taken in the order given.
+double min_geom_distance(const mjModel* m, mjData* d, const std::vector<int>& geoms, double distmax) noexcept {
+  const MujocoApi& mj = mujoco_api();
+  double best = 0.0;
+  for (size_t i = 1; i < geoms.size(); ++i) {
+    double fromto[6];  // [m] unused; given as arm_scene.min_distance gives it
+    const double dist = mj.geom_distance(m, d, geoms[0], geoms[i], distmax, fromto);
+    best = i == 1 ? dist : std::min(best, dist);
+  }
+  return best;
 }
 }  // namespace
 
@@ -81,7 +110,7 @@ bool Rollout::configure(const mjModel* model, mjData* data, std::shared_ptr<Adap
     *why = "rollout: expected control_dt > 0 and ticks >= 0";
     return false;
   }
-  // Whole physics steps per control period, as LoopSettings.substeps in sil/loop.py.
+  // Whole physics steps per control period, as sil/timing.py substeps() (which refuses others).
   const double ts = model->opt.timestep;
   const long n = std::lround(config.control_dt / ts);
   if (n < 1 || std::fabs(static_cast<double>(n) * ts - config.control_dt) > 1e-12) {
@@ -180,8 +209,9 @@ bool Rollout::configure(const mjModel* model, mjData* data, std::shared_ptr<Adap
   io_.clear();
   probe_src_.clear();
   probe_end_.clear();
+  probe_values_.assign(config.probes.size(), 0.0);  // never resized again: probe_src_ points in
   for (size_t i = 0; i < config.probes.size(); ++i) {
-    probe_sources(data, config.probes[i], contact_forces_[i], &probe_src_);
+    probe_sources(data, config.probes[i], contact_forces_[i], &probe_values_[i], &probe_src_);
     probe_end_.push_back(probe_src_.size());
   }
 
@@ -259,8 +289,20 @@ bool Rollout::stop_due(int k) noexcept {
   return log_.row(ch_probe_[config_.stop_probe], k)[config_.stop_element] < config_.stop_below;
 }
 
+void Rollout::compute_probes() noexcept {
+  // The probes that are a function of the state rather than one of its arrays, on the state the
+  // tick starts from (as the other probes).
+  for (size_t p = 0; p < config_.probes.size(); ++p) {
+    const Probe& probe = config_.probes[p];
+    if (probe.source == Probe::Source::kContactCount)
+      probe_values_[p] = contacts_involving(d_, probe.index);
+    else if (probe.source == Probe::Source::kGeomDistance)
+      probe_values_[p] = min_geom_distance(m_, d_, probe.index, Probe::kGeomDistanceMax);
+  }
+}
+
 void Rollout::tick(int k) {
-  const double t = k * config_.control_dt;  // as sil/loop.py: no accumulated sum
+  const double t = k * config_.control_dt;  // no accumulated sum
   const int ny = static_cast<int>(y_raw_.size()), nu = static_cast<int>(u_.size());
   for (int i = 0; i < ny; ++i) y_raw_[i] = *y_src_[i];
   sensor_.apply(y_raw_.data(), y_.data());
@@ -270,6 +312,7 @@ void Rollout::tick(int k) {
   delay_.push(t, y_.data(), &stamp, &y);
 
   *log_.row(ch_t_, k) = t;
+  compute_probes();
   // Ground-truth probes: element by element from the sources configure resolved (one flat
   // pointer list rather than a switch over each probe's index vector).
   for (size_t p = 0, j = 0; p < probe_end_.size(); ++p) {
@@ -281,7 +324,7 @@ void Rollout::tick(int k) {
   for (size_t i = 0; i < config_.disturbances.size(); ++i)
     config_.disturbances[i]->update(t, m_, d_, wrenches_.data() + 6 * i, log_, k);
   adapter_->step(t, stamp, y, u_.data(), log_, k);
-  if (!io_.empty()) adapter_->write_io_record(io_.data() + static_cast<size_t>(k) * io_bytes_.total());
+  if (!io_.empty()) adapter_->write_io_record(io_bytes_, io_.data() + static_cast<size_t>(k) * io_bytes_.total());
   motor_.push(u_.data(), u_applied_.data());
   for (int i = 0; i < nu; ++i) d_->ctrl[config_.actuators[i]] = u_applied_[i];
   for (int s = 0; s < substeps_; ++s) physics_step(s == substeps_ - 1);

@@ -1,11 +1,12 @@
 #pragma once
-// The native SIL loop: the 1 kHz closed loop of sil/loop.py in C++, on the mjModel/mjData the
-// Python plant built. Per tick k (t = k * control_dt), in the Python loop's order:
+// The native SIL loop: the 1 kHz closed loop in C++, on the mjModel/mjData the Python plant
+// built (python/kiloloop/sil/rig.py configures it). Per tick k (t = k * control_dt):
 //   y_raw = sensordata[measurement]          plant signals (MuJoCo sensors, current state; or
 //                                            qpos / qvel entries: a motion-capture stand-in)
 //   y     = SensorModel(y_raw)               noise, quantization (seeded)
 //   stamp, y = MeasurementDelay(t, y)        whole ticks
-//   log t and the ground-truth probes        (what a scenario's observe() records)
+//   log t and the ground-truth probes        (what a scenario's observe() records; computed
+//                                            ones, contact counts and distances, first)
 //   fire the events due (t >= time)
 //   disturbances: this tick's wrench per body (wind drag, ...) from the current state
 //   u     = adapter.step(t, stamp, y)        compiled controller
@@ -38,11 +39,19 @@ namespace kiloloop::sil {
 // several site ids, their positions (sites x 3) [m] (world; the quadruped's foot sphere centres).
 // kSubtreeCom: {body id}, the centre of mass of the body and its descendants [m] (world);
 // kActuatorForce: actuator ids, their force (gain x activation for a rotor) [N]; kBodyMat:
-// {body id}, its rotation (3 x 3, world <- body).
+// {body id}, its rotation (3 x 3, world <- body). Computed each tick (one value each):
+// kContactCount: geom ids, the number of the data's contacts (d->ncon entries) that involve any
+// of them (a contact is counted once; arm-rrt's "no contact with the box"); kGeomDistance:
+// {geom, others...}, the smallest signed distance [m] from geom to any other (mj_geomDistance,
+// capped at kGeomDistanceMax).
 struct Probe {
   enum class Source : int { kSensor = 0, kSitePos = 1, kSiteMat = 2, kBodyPos = 3, kBodyQuat = 4,
                             kQpos = 5, kQvel = 6, kBodiesPos = 7, kContactForce = 8,
-                            kSubtreeCom = 9, kActuatorForce = 10, kBodyMat = 11, kSitesPos = 12 };
+                            kSubtreeCom = 9, kActuatorForce = 10, kBodyMat = 11, kSitesPos = 12,
+                            kContactCount = 13, kGeomDistance = 14 };
+  static constexpr int kLastSource = 14;
+  // [m] kGeomDistance's distmax: farther pairs read this (arm_scene.min_distance's default).
+  static constexpr double kGeomDistanceMax = 1.0;
   std::string name;
   Source source = Source::kSensor;
   std::vector<int> index;  // sensordata / qpos / qvel addresses, or {site id} / {body id}
@@ -114,6 +123,7 @@ class Rollout {
   void fire_events(double t) noexcept;
   void physics_step(bool last) noexcept;
   bool stop_due(int k) noexcept;
+  void compute_probes() noexcept;
 
   const mjModel* m_ = nullptr;
   mjData* d_ = nullptr;
@@ -131,6 +141,8 @@ class Rollout {
   size_t next_event_ = 0;
   int k_ = 0;                      // next tick
   std::vector<ContactForces> contact_forces_;  // per probe (empty unless kContactForce)
+  std::vector<double> probe_values_;     // per probe: the value a computed probe (contacts,
+                                         // distance) writes each tick before the copy
   std::vector<const double*> probe_src_;  // every probe element's source, in log order
   std::vector<size_t> probe_end_;         // per probe: one past its last entry in probe_src_
   LogBuffer log_;

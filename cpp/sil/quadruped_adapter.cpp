@@ -10,10 +10,11 @@ void store(const V& v, double* row) noexcept { std::copy(v.data(), v.data() + v.
 }  // namespace
 
 QuadrupedAdapter::QuadrupedAdapter(QuadrupedController* controller, const std::array<int, kJoints>& to_ctrl,
-                                   Gait gait, const Eigen::Vector3d& velocity)
-    : c_(controller), to_ctrl_(to_ctrl) {
+                                   Gait gait, const Eigen::Vector3d& velocity, bool ground_truth)
+    : c_(controller), to_ctrl_(to_ctrl), ground_truth_(ground_truth) {
   in_.gait = gait;
   in_.velocity_command = velocity;
+  in_.use_ground_truth = ground_truth;
 }
 
 void QuadrupedAdapter::declare(LogBuffer& log) {
@@ -50,6 +51,12 @@ int QuadrupedAdapter::step(double t, double stamp, const double* y, double* u, L
   in_.gyro = Eigen::Vector3d(imu[0], imu[1], imu[2]);
   in_.accel = Eigen::Vector3d(imu[3], imu[4], imu[5]);
   in_.quat = Eigen::Vector4d(imu[6], imu[7], imu[8], imu[9]);
+  if (ground_truth_) {  // the simulator's base state, as QuadrupedRig._loop hands it over
+    const double* truth = y + kMeasurement;
+    in_.true_position = Eigen::Vector3d(truth[0], truth[1], truth[2]);
+    in_.true_quat = Eigen::Vector4d(truth[3], truth[4], truth[5], truth[6]);
+    in_.true_velocity = Eigen::Vector3d(truth[7], truth[8], truth[9]);
+  }
   const int status = static_cast<int>(c_->step(in_, out_));
   *log.row(ch_status_, k) = status;
   store(out_.position, log.row(ch_est_pos_, k));

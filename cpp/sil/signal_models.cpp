@@ -7,8 +7,8 @@ namespace kiloloop::sil {
 
 namespace {
 bool check_vector(const std::vector<double>& v, int n, const char* name, std::string* why) {
-  if (!v.empty() && static_cast<int>(v.size()) != n) {
-    *why = std::string(name) + ": expected 0 or " + std::to_string(n) + " entries, got " +
+  if (static_cast<int>(v.size()) > n) {
+    *why = std::string(name) + ": expected at most " + std::to_string(n) + " entries, got " +
            std::to_string(v.size());
     return false;
   }
@@ -25,10 +25,14 @@ bool SensorModel::configure(const SensorModelConfig& config, int n, std::string*
   if (!check_vector(config.sigma, n, "sigma", why) || !check_vector(config.quantum, n, "quantum", why))
     return false;
   n_ = n;
-  sigma_ = config.sigma.empty() ? std::vector<double>(n, 0.0) : config.sigma;
-  quantum_ = config.quantum.empty() ? std::vector<double>(n, 0.0) : config.quantum;
+  // Shorter arrays cover y's first entries; the rest are zero (and draw nothing: noisy_n_).
+  sigma_ = config.sigma;
+  sigma_.resize(n, 0.0);
+  quantum_ = config.quantum;
+  quantum_.resize(n, 0.0);
   noisy_ = false;
   for (double s : sigma_) noisy_ = noisy_ || s > 0.0;
+  noisy_n_ = static_cast<int>(config.sigma.size());
   quantized_index_.clear();
   for (int i = 0; i < n; ++i)
     if (quantum_[i] > 0.0) quantized_index_.push_back(i);
@@ -44,10 +48,12 @@ void SensorModel::apply(const double* x, double* y) noexcept {
   }
   // A zero sigma still draws its sample: the stream of every element does not depend on which
   // others are noisy.
-  if (noisy_)
-    for (int i = 0; i < n_; ++i) y[i] = x[i] + sigma_[i] * rng_.normal();
-  else
+  if (noisy_) {
+    for (int i = 0; i < noisy_n_; ++i) y[i] = x[i] + sigma_[i] * rng_.normal();
+    std::copy(x + noisy_n_, x + n_, y + noisy_n_);
+  } else {
     std::copy(x, x + n_, y);
+  }
   // nearbyint in the default rounding mode rounds half to even, as numpy.round does.
   for (int i : quantized_index_) y[i] = quantum_[i] * std::nearbyint(y[i] / quantum_[i]);
 }
@@ -72,7 +78,7 @@ void MeasurementDelay::push(double t, const double* x, double* stamp, const doub
   times_[slot] = t;
   for (int i = 0; i < n_; ++i) values_[static_cast<size_t>(slot) * n_ + i] = x[i];
   ++count_;
-  int use = slot;  // fewer than ticks + 1 samples so far: the newest (as sil/loop.py)
+  int use = slot;  // fewer than ticks + 1 samples so far: the newest
   if (count_ > ticks_) {
     use = head_;   // the oldest, then dropped
     head_ = (head_ + 1) % size;

@@ -11,19 +11,22 @@
 
 namespace kiloloop::sil {
 
+// sigma and quantum cover y's first entries: n of them, or fewer (the entries after them pass
+// through untouched and draw no noise: ground truth appended to a measurement, whose noise stream
+// then stays the one of the shorter y), or none (empty).
 struct SensorModelConfig {
-  std::vector<double> sigma;    // (n) white-noise standard deviation per element; empty: none
-  std::vector<double> quantum;  // (n) quantization step per element (0: none); empty: none
+  std::vector<double> sigma;    // (<= n) white-noise standard deviation per element; empty: none
+  std::vector<double> quantum;  // (<= n) quantization step per element (0: none); empty: none
   unsigned long long seed = 0;  // noise stream
 };
 
 class SensorModel {
  public:
-  // Fails (false, why) on sizes other than 0 or n, or negative / non-finite entries.
+  // Fails (false, why) on more than n entries, or negative / non-finite entries.
   bool configure(const SensorModelConfig& config, int n, std::string* why);
   // y = quantum * round((x + sigma * N(0, 1)) / quantum), rounding half to even (numpy.round).
-  // With any sigma > 0 one normal is drawn per element every call, whatever the sigmas, so
-  // a seed's stream does not depend on which elements are noisy.
+  // With any sigma > 0 one normal is drawn per element of sigma every call, whatever the sigmas,
+  // so a seed's stream does not depend on which elements are noisy.
   void apply(const double* x, double* y) noexcept;
   int size() const { return n_; }
 
@@ -31,13 +34,14 @@ class SensorModel {
   int n_ = 0;
   std::vector<double> sigma_, quantum_;
   bool noisy_ = false;
+  int noisy_n_ = 0;                   // elements that draw a normal (sigma's given length)
   bool quantized_ = false;            // any quantum > 0
   std::vector<int> quantized_index_;  // the elements whose quantum > 0
   Rng rng_;
 };
 
-// Measurements wait `ticks` control ticks. Mirrors sil/loop.py's FIFO exactly (the per-tick
-// Python loop): while fewer than ticks + 1 samples have arrived the newest one is used.
+// Measurements wait `ticks` control ticks, a FIFO: while fewer than ticks + 1 samples have
+// arrived the newest one is used.
 class MeasurementDelay {
  public:
   void configure(int n, int ticks);

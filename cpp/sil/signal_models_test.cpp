@@ -108,11 +108,31 @@ TEST(NativeSensorModel, QuantizesHalfToEvenLikeNumpy) {
   EXPECT_EQ(y[0], 0.0);
   EXPECT_EQ(y[1], 0.123);
   EXPECT_FALSE(s.configure(SensorModelConfig{{-1.0, 0.0}, {}, 0}, 2, &why));
-  EXPECT_FALSE(s.configure(SensorModelConfig{{0.1}, {}, 0}, 2, &why));
+  EXPECT_FALSE(s.configure(SensorModelConfig{{0.1, 0.1, 0.1}, {}, 0}, 2, &why));  // longer than y
+}
+
+TEST(NativeSensorModel, ShorterArraysCoverThePrefixAndKeepItsStream) {
+  // sigma / quantum for y's first 2 entries of 4: the last 2 (appended ground truth) pass through
+  // untouched, and a tick draws 2 normals, the stream of a 2-long y with the same sigma.
+  SensorModel longer, shorter;
+  std::string why;
+  ASSERT_TRUE(longer.configure(SensorModelConfig{{0.2, 0.0}, {0.0, 0.5}, 7}, 4, &why)) << why;
+  ASSERT_TRUE(shorter.configure(SensorModelConfig{{0.2, 0.0}, {0.0, 0.5}, 7}, 2, &why)) << why;
+  const double x[4] = {1.0, 0.3, -0.0, 0.123456789};
+  double y[4], z[2];
+  for (int k = 0; k < 50; ++k) {
+    longer.apply(x, y);
+    shorter.apply(x, z);
+    EXPECT_EQ(y[0], z[0]);
+    EXPECT_EQ(y[1], z[1]);
+    EXPECT_EQ(y[2], 0.0);
+    EXPECT_TRUE(std::signbit(y[2]));  // not even -0.0 + 0.0
+    EXPECT_EQ(y[3], x[3]);
+  }
 }
 
 TEST(NativeMeasurementDelay, MirrorsThePythonLoopFifo) {
-  // sil/loop.py with delay_ticks = 2: ticks 0 and 1 see the newest sample, then t - 2.
+  // delay_ticks = 2: ticks 0 and 1 see the newest sample, then t - 2.
   MeasurementDelay d;
   d.configure(1, 2);
   const double expected[] = {0, 1, 0, 1, 2, 3};

@@ -33,11 +33,11 @@ class WindDrag final : public Disturbance {
   bool configure(const mjModel* m, LogBuffer& log, std::string* why) override;
   int body() const override { return c_.body; }
   void update(double t, const mjModel* m, const mjData* d, double* wrench, LogBuffer& log, int k) noexcept override;
-  // The last update's wind [m/s] and force [N] (the per-tick Python loop logs them).
+  // The last update's wind [m/s] and force [N] (update() logs them).
   const double* wind() const { return w_; }
   const double* force() const { return f_; }
-  // Computes the tick's wind and force and writes them into d->xfrc_applied of the body (the
-  // per-tick Python loop; the native loop goes through update()).
+  // Computes the tick's wind and force and writes them into d->xfrc_applied of the body (a
+  // test's entry; the native loop goes through update()).
   void apply(double t, const mjModel* m, mjData* d) noexcept;
 
  private:

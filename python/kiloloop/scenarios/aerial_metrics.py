@@ -1,5 +1,5 @@
 """What the aerial scenarios compute from a log (attitude errors, divergence, a hold's errors)
-and their hover reference (Hold, hold). The rig (sil/aerial_rig.py) only moves data; what a run
+and their hover reference (Hold, hold). The rig (sil/rig.py, sil/aerial_family.py) only moves data; what a run
 is judged by and the references the scenarios derive live with the scenarios."""
 from __future__ import annotations
 

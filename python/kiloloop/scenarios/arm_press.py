@@ -9,6 +9,8 @@ quintic, with the table's Coulomb friction opposing it. Any arm: the pressing po
 pose turned tool-down by the IK (the UR5's robot file gives its own).
 `--set controller=impedance` runs the Cartesian impedance controller instead, with the reference
 pushed 10 N / K_z below the surface (no force feedback): for comparison.
+The loop runs in C++ (sil/rig.py, cpp/sil/press_adapter.hpp): the force sensor and the tool
+site's orientation are part of the measurement, the slide reference is computed in the adapter.
 """
 from __future__ import annotations
 
@@ -18,11 +20,10 @@ import numpy as np
 import kiloloop as kl
 
 from ..errors import InputError, configuring
-from ..sil import arm_scene
-from ..sil.arm_adapters import PressTick
+from ..sil import arm_scene, native
+from ..sil.arm_adapters import Press
 from ..sil.rig import Rig
 from .arm_targets import line_feasible, work_pose
-from ..sil.log import SignalLog
 from . import JUDGED_WINDOW, ScenarioResult, evaluate
 from .plots import ARM_PRESS_PLOT
 
@@ -198,12 +199,10 @@ def run(settings: dict, seed: int = 0, duration: float | None = None,
         # No force loop: the spring alone presses, its set point F / K_z below the surface.
         k_z = kl.CartesianImpedanceConfig().stiffness[2]
         p0 = p0 - np.array([0.0, 0.0, settings["gap"] + settings["force"] / k_z])
-    tick = PressTick(controller, plant, tip, p0, R0, settings)
-
-    def observe(p, log: SignalLog) -> None:
-        log.record("ee", p.ee_pose()[0])
-
-    log = rig.run(tick, DURATION if duration is None else duration, observe=observe)
+    reference = Press(controller, tip, p0, R0, settings["force"], settings["settle"],
+                      settings["slide"], settings["slide_time"])
+    log = rig.run(DURATION if duration is None else duration, reference,
+                  observe=native.Observe("ee"))
     t = log["t"]
     after = t >= settings["measure_from"]
     fz = -log["force"][:, 2]  # pressing force, positive down

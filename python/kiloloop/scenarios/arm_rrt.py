@@ -7,6 +7,7 @@ synchronized trapezoid within joint velocity/acceleration limits. Execution: com
 the trajectory at 1 kHz on the MuJoCo plant, which has the same box; MuJoCo's own collision
 detection must report no contact with it. `--set planner=straight` skips planning and runs the
 straight joint-space trapezoid instead, which hits the box (the pytest checks that it does).
+The loop runs in C++ (sil/rig.py): the box contacts and distance are native probes.
 Any arm: from the work pose, the first joint turns by ROTATION (or back when its limits say so);
 the box stands on the floor under the tool's mid-path position, as high as the tool is there, and
 is shrunk until start and goal clear it by the margin (scenarios/arm_targets.py, this file's
@@ -19,7 +20,7 @@ import numpy as np
 import kiloloop as kl
 
 from ..errors import InputError
-from ..sil import arm_scene
+from ..sil import arm_scene, native
 from ..sil.arm_adapters import JointTracking
 from ..sil.rig import Rig
 from .arm_controllers import controller
@@ -199,15 +200,14 @@ def run(settings: dict, seed: int = 0, duration: float | None = None,
     plant.reset()
     box = plant.model.geom("obstacle").id
     links = arm_scene.robot_geoms(plant)
-    tick = JointTracking(controller(robot, model, "computed_torque", q_start), trajectory)
-
-    def observe(p, log: SignalLog) -> None:
-        log.record("q_true", p.q())
-        log.record("box_contacts", arm_scene.contacts_with(p, box))
-        log.record("box_distance", arm_scene.min_distance(p, box, links))
+    reference = JointTracking(controller(robot, model, "computed_torque", q_start), trajectory)
 
     total = trajectory.end_time + HOLD if duration is None else duration
-    log = rig.run(tick, total, observe=observe)
+    # Ground truth per tick, in C++: joint positions, MuJoCo's contacts with the box and the
+    # smallest link-box distance (arm_scene.contacts_with, min_distance).
+    probes = [native.contact_count("box_contacts", [box]),
+              native.geom_distance("box_distance", box, links)]
+    log = rig.run(total, reference, observe=native.Observe("q_true"), probes=probes)
     # What the planner's model says about the executed reference (capsules: conservative).
     planned_clearance = min(checker.clearance(q) for q in log["q_ref"][::10]) + settings["margin"]
     q_goal = np.asarray(settings["q_goal"], dtype=float)

@@ -4,10 +4,13 @@ reference onto that controller's input every tick, in the native loop. Glue only
 logic, no robot constants.
 
     rig.run(4.5, JointTracking(controller, trajectory), observe=native.Observe("q_true", "ee"))
+
+A reference may ask for more of the plant's sensors than [q; qd] (`extra_measurement(plant)`:
+sensordata addresses appended to y, untouched by the noise models): Press reads its tool's force.
 """
 from __future__ import annotations
 
-from . import arm_scene, native
+from . import native
 from . import events as ev
 
 
@@ -53,41 +56,25 @@ class Supervised:
         return [(float(self.t_estop), ev.ESTOP, [1.0])]
 
 
-def _quintic(s):
-    """Rest-to-rest blend on s in [0, 1]: value, first and second derivative w.r.t. s."""
-    s = min(max(s, 0.0), 1.0)
-    return (10 * s**3 - 15 * s**4 + 6 * s**5, 30 * s**2 - 60 * s**3 + 30 * s**4,
-            60 * s - 180 * s**2 + 120 * s**3)
+class Press:
+    """A Cartesian torque controller (hybrid force/position, or impedance) pressing the tool on
+    a table with `force` [N] while its reference slides `slide` [m] along x on a quintic after
+    `settle` [s] over `slide_time` [s] (cpp/sil/press_adapter.hpp). The tool's force sensor and
+    orientation (arm_scene.ToolTip) follow [q; qd] in the measurement. Logs x_ref, force (world)
+    [N], tau, status, q."""
 
+    def __init__(self, controller, tip, p0, R0, force: float, settle: float, slide: float,
+                 slide_time: float):
+        self.controller, self.tip = controller, tip
+        self.p0, self.R0 = p0, R0
+        self.force, self.settle, self.slide, self.slide_time = force, settle, slide, slide_time
 
-class PressTick:
-    """Maps measurement, force sensor and the slide reference onto the controller (glue only)."""
+    def extra_measurement(self, plant) -> list[int]:
+        return self.tip.measurement_addresses(plant.model)
 
-    def __init__(self, controller, plant, tip, p0, R0, settings):
-        self.c, self.plant, self.tip, self.settings = controller, plant, tip, settings
-        self.input, self.output = controller.make_input(), controller.make_output()
-        self.p0 = p0
-        self.input.R_ref = R0
-        self.input.wrench_ref = np.array([0.0, 0.0, -settings["force"], 0.0, 0.0, 0.0])
+    def native_adapter(self):
+        return native.press_adapter(self.controller, self.p0, self.R0, float(self.force),
+                                    float(self.settle), float(self.slide), float(self.slide_time))
 
-    def reference(self, t):
-        st = self.settings
-        s, ds, dds = _quintic((t - st["settle"]) / st["slide_time"])
-        T = st["slide_time"]
-        return (self.p0[0] + st["slide"] * s, st["slide"] * ds / T, st["slide"] * dds / T**2)
-
-    def __call__(self, m: Measurement, log: SignalLog) -> np.ndarray:
-        inp = self.input
-        inp.t, inp.stamp = m.t, m.stamp
-        inp.q[:], inp.qd[:] = m.q, m.qd
-        x, xd, xdd = self.reference(m.t)
-        inp.p_ref[:] = [x, self.p0[1], self.p0[2]]
-        inp.twist_ref[0], inp.accel_ref[0] = xd, xdd
-        force = arm_scene.tip_force_world(self.plant, self.tip)  # sampled with q (same stamp)
-        inp.wrench_measured[:3] = force
-        status = self.c.step(inp, self.output)
-        log.record("x_ref", x)
-        log.record("force", force)
-        log.record("tau", self.output.tau)
-        log.record("status", int(status))
-        return self.output.tau.copy()
+    def native_events(self) -> list:
+        return []

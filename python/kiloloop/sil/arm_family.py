@@ -71,9 +71,10 @@ def measurement(parts: ArmParts, signals, seed: int, reference) -> Measurement:
     extra = [int(a) for a in getattr(reference, "extra_measurement", lambda _p: [])(p)]
     addresses = [int(a) for a in p._pos_sens] + [int(a) for a in p._vel_sens] + extra
     s = signals
-    sigma = ([s.on("q_sigma")] * nq + [s.on("qd_sigma")] * nq + [0.0] * len(extra)
+    # The arrays cover [q; qd] only: the extra entries pass untouched and draw no noise.
+    sigma = ([s.on("q_sigma")] * nq + [s.on("qd_sigma")] * nq
              if s.on("q_sigma") > 0 or s.on("qd_sigma") > 0 else [])
-    quantum = ([s.on("encoder_resolution")] * nq + [0.0] * (nq + len(extra))
+    quantum = ([s.on("encoder_resolution")] * nq + [0.0] * nq
                if s.on("encoder_resolution") > 0 else [])
     return Measurement(addresses, [0] * len(addresses), sigma, quantum, [])
 

@@ -45,7 +45,9 @@ def add_table(spec, name: str, center, half_size, *, friction: float = 1.0, solr
 
 @dataclass(frozen=True)
 class ToolTip:
-    """A sphere rigidly mounted on a link at `offset` (link frame) [m], with a force sensor."""
+    """A sphere rigidly mounted on a link at `offset` (link frame) [m], with a force sensor and
+    the site's orientation (a framequat sensor: the native loop turns the force into the world
+    frame from the measurement alone, sil/native.py press_adapter)."""
 
     parent: str = "tool0"
     offset: tuple = (0.0, 0.0, 0.02)   # [m] sphere centre in the parent frame
@@ -55,6 +57,7 @@ class ToolTip:
     body: str = "tool_tip"
     site: str = "tool_tip_site"
     sensor: str = "tool_tip_force"
+    quat_sensor: str = "tool_tip_quat"
 
     def __call__(self, spec) -> None:
         parent = spec.body(self.parent)
@@ -68,6 +71,15 @@ class ToolTip:
         body.add_site(name=self.site)
         spec.add_sensor(name=self.sensor, type=mujoco.mjtSensor.mjSENS_FORCE,
                         objtype=mujoco.mjtObj.mjOBJ_SITE, objname=self.site)
+        # World <- site orientation (w, x, y, z), read with the force in the same tick.
+        spec.add_sensor(name=self.quat_sensor, type=mujoco.mjtSensor.mjSENS_FRAMEQUAT,
+                        objtype=mujoco.mjtObj.mjOBJ_SITE, objname=self.site)
+
+    def measurement_addresses(self, model) -> list[int]:
+        """sensordata addresses of [force in the site frame (3) [N]; site quaternion (4)]: the
+        press adapter's entries after [q; qd] (native.rollout(extra_measurement=...))."""
+        force, quat = (int(model.sensor_adr[model.sensor(n).id]) for n in (self.sensor, self.quat_sensor))
+        return list(range(force, force + 3)) + list(range(quat, quat + 4))
 
 
 def compose(*fns):

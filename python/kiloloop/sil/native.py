@@ -36,6 +36,12 @@ supervised_adapter = _native.supervised_adapter if _native.available else None
 # Probe sources (cpp/sil/native_loop.hpp).
 (_SENSOR, _SITE_POS, _SITE_MAT, _BODY_POS, _BODY_QUAT, _QPOS, _QVEL, _BODIES_POS,
  _CONTACT_FORCE, _SUBTREE_COM, _ACTUATOR_FORCE, _BODY_MAT, _SITES_POS) = range(13)
+# Computed each tick, one value: contacts (d->ncon entries) involving any of the geoms; the
+# smallest signed distance [m] from a geom to others (mj_geomDistance, capped at 1 m).
+_CONTACT_COUNT, _GEOM_DISTANCE = 13, 14
+# arm-press's adapter (cpp/sil/press_adapter.hpp): press_adapter(controller, p0, R0, force,
+# settle, slide, slide_time), y = [q; qd; f_site (3); site quat (4)] (extra_measurement below).
+press_adapter = _native.press_adapter if _native.available else None
 
 
 def _load_mujoco() -> str:
@@ -165,3 +171,16 @@ def drive(r, model, data, *, video=None, camera_body: int = 1, hooks=()) -> None
             recorder.close()
     if not r.ok:
         raise RuntimeError(f"native loop stopped at tick {r.ticks_run}: {r.error}")
+
+
+def contact_count(name: str, geoms) -> tuple:
+    """Probe: per tick the number of active contacts (d.ncon entries) involving any of the geom
+    ids (a contact counted once), as a float; read where observe() reads (arm_scene.contacts_with
+    for one geom)."""
+    return (name, _CONTACT_COUNT, [int(g) for g in geoms])
+
+
+def geom_distance(name: str, geom: int, others) -> tuple:
+    """Probe: per tick the smallest signed distance [m] from geom to any of others, capped at
+    1 m (arm_scene.min_distance)."""
+    return (name, _GEOM_DISTANCE, [int(geom)] + [int(g) for g in others])

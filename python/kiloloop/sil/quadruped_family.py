@@ -131,12 +131,13 @@ def measurement(parts: QuadrupedParts, signals, seed: int, reference) -> Measure
     if parts.ground_truth:
         addresses += (list(range(p._free_q, p._free_q + 7)) + list(range(p._free_d, p._free_d + 3)))
         sources += [1] * 7 + [2] * 3
-    extra = len(addresses) - 2 * JOINTS - IMU
     on, realistic = signals.enabled, signals.realistic_legged
     white = on and not realistic and (signals.gyro_sigma > 0 or signals.accel_sigma > 0)
+    # The arrays cover the 34 sensor entries only: the ground truth passes untouched and draws
+    # no noise (the stream is the same with and without it).
     sigma = ([0.0] * 2 * JOINTS + [signals.gyro_sigma] * 3 + [signals.accel_sigma] * 3
-             + [0.0] * (4 + extra)) if white else []
-    quantum = ([signals.encoder_resolution] * JOINTS + [0.0] * (JOINTS + IMU + extra)
+             + [0.0] * 4) if white else []
+    quantum = ([signals.encoder_resolution] * JOINTS + [0.0] * (JOINTS + IMU)
                if on and not realistic and signals.encoder_resolution > 0 else [])
     stages = (legged_stages(signals.legged_sensors, joints=JOINTS, imu_offset=2 * JOINTS,
                             encoder_resolution=signals.encoder_resolution, seed=seed,

@@ -71,10 +71,12 @@ class Rig:
         return self.family.adapter(self.parts, reference, controller, ticks)
 
     def rollout(self, duration: float, reference, events=(), *, stop=None, observe=None,
-                stages=(), disturbances=(), data=None, seed: int | None = None, adapter=None):
+                probes=(), stages=(), disturbances=(), data=None, seed: int | None = None,
+                adapter=None):
         """A configured native Rollout of `duration` [s] (run it with .run(), batch.run or
         native.drive). events: (time [s], event) pairs of sil/events.py; stop: a FellBelow;
-        observe: extra ground truth (family-specific); stages: more C++ measurement stages after
+        observe: extra ground truth (family-specific: an arm's native.Observe); probes: more
+        (name, source, ids) probes after the family's (native.contact_count, geom_distance); stages: more C++ measurement stages after
         the signal chain's (a sensor dropout); disturbances: a Wind (sil/aerial_signals.py) or a
         C++ disturbance model;
         data: another MjData of plant.model (native.start_state); seed: another noise stream;
@@ -98,7 +100,7 @@ class Rig:
             motor_delay_ticks=motor.delay_ticks, motor_time_constant=motor.time_constant,
             motor_limit=list(motor.limit), motor_hold_first=motor.hold_first,
             events=f.reference_events(p, reference) + timed,
-            probes=f.probes(p, observe), stop=stop_tuple,
+            probes=f.probes(p, observe) + list(probes), stop=stop_tuple,
             disturbances=[d.model(self.plant) if hasattr(d, "model") else d for d in disturbances],
             stop_nonfinite=f.stop_nonfinite)
 
