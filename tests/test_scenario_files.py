@@ -248,6 +248,25 @@ def test_builtin_files_ship_and_pass(capsys):
         assert rc == 0, (path, out)
 
 
+# Built-in scenarios shipped as files (scenarios/files/NAME.toml, the built-in's default robot and
+# criteria): the file's run is the built-in's run, so its headline figure is the built-in's.
+SAME_RUN = {"arm-track": ("max_joint_error_rad", "max(joint_error)"),
+            "aerial-hover": ("max_position_error_m", "max(position_error)"),
+            "aerial-rotor-fault": ("max_hover_deviation_m", "max(position_error)")}
+
+
+@pytest.mark.parametrize("name", sorted(SAME_RUN))
+def test_a_builtin_shipped_as_a_file_gives_the_builtins_figure(name):
+    from kiloloop import scenarios
+
+    [path] = [f for f in scenarios.example_files() if f.stem == name]
+    builtin = scenarios.run_named(name)
+    as_file = scenarios.run_named(str(path))
+    metric, criterion = SAME_RUN[name]
+    assert builtin.passed and as_file.passed
+    assert as_file.metrics[criterion] == pytest.approx(builtin.metrics[metric], rel=1e-6)
+
+
 @pytest.mark.parametrize("name", ["ur10", "go1", "iris"])
 def test_b2b_over_a_scenario_file(firmware_prefix, tmp_path, name):
     """kiloloop b2b ROBOT --scenario FILE: that run's controller inputs replayed through the

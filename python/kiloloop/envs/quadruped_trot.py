@@ -32,7 +32,7 @@ import kiloloop as kl
 
 from ..sil import native
 from ..sil.events import FellBelow
-from ..sil.rig import CONTROL_DT
+from ..sil.timing import CONTROL_DT, whole_periods
 from ..scenarios.quadruped_settings import COMMON_DEFAULTS, rig_from_settings
 from ..scenarios.quadruped_metrics import heading_velocity, roll_pitch, trot_command
 
@@ -71,8 +71,8 @@ class _Core:
         self.rig = rig_from_settings(self.settings, 0, robot=_robot(robot))
         self.rig.plant.reset()
         self.speed = float(speed)
-        self.ticks = max(1, int(round(action_period / CONTROL_DT)))
-        self.episode_ticks = int(round(episode_seconds / CONTROL_DT))
+        self.ticks = max(1, whole_periods(action_period, CONTROL_DT))
+        self.episode_ticks = whole_periods(episode_seconds, CONTROL_DT)
         self.scale = ACTION_SCALE * float(self.rig.config.body_height)  # [m]
         self.action_space = spaces.Box(-1.0, 1.0, (12,), np.float32)
         self.observation_space = spaces.Box(-np.inf, np.inf, (OBS_SIZE,), np.float32)
@@ -81,7 +81,7 @@ class _Core:
         native.check()
         e = _Episode(self.rig, self.speed, self.episode_ticks, seed)
         e.seed = seed  # the sensor noise stream
-        e.rollout.advance(int(round(WARMUP / CONTROL_DT)))
+        e.rollout.advance(whole_periods(WARMUP, CONTROL_DT))
         e.action = np.zeros(12, np.float32)
         return e
 

@@ -25,6 +25,7 @@ import numpy as np
 import kiloloop as kl
 
 from ..sil.aerial_signals import CONTROL_DT, REFERENCE_WIDTH, reference_row
+from ..sil.timing import whole_periods
 from .aerial_settings import COMMON_DEFAULTS, rig_from_settings
 from .aerial_metrics import add_derived, diverged, rotation_vector_error
 from ..errors import InputError
@@ -131,7 +132,7 @@ def _one(settings, feedforward, seed, duration, robot):
     log.put("att_level_deg", tilt)
     after = log["t"] >= settings["start"]
     err = log["att_err_deg"][after]
-    n = max(1, int(round(SMOOTH / 0.001)))
+    n = max(1, whole_periods(SMOOTH, CONTROL_DT))
     kernel = np.ones(n) / n
     smooth = np.stack([np.convolve(err[:, i], kernel, mode="valid") for i in range(3)], axis=1)
     pos_err = np.linalg.norm(log["base_pos"] - log["pos_ref"], axis=1)
