@@ -1,6 +1,6 @@
 """The quadruped rig's realistic sensors: the C++ measurement stages (cpp/sil/
-legged_sensor_stages.hpp) both loops run, through the bindings: seeded IMU bias, quantized q and
-qd from encoder differences; the rig hands the controller no orientation with them. The IMU
+legged_sensor_stages.hpp) the native loop runs, called through the bindings: seeded IMU bias,
+quantized q and qd from encoder differences; the rig hands the controller no orientation with them. The IMU
 model's statistics are tested in C++ (cpp/sil/imu_model_test.cpp)."""
 import numpy as np
 import pytest

@@ -39,7 +39,7 @@ def run(settings: dict, seed: int = 0, duration: float | None = None,
     t0, dur = float(settings["push_time"]), float(settings["push_duration"])
     force = rig.plant.total_mass * float(settings["delta_v"]) / dur * direction  # [N]
 
-    # An event: the force at the vehicle's CoM for whole physics steps (both loops).
+    # An event: the force at the vehicle's CoM for whole physics steps .
     log = rig.run(DURATION if duration is None else duration, hold(rig),
                   events=[(t0, Push(force, dur))])
     add_derived(log)

@@ -46,8 +46,7 @@ def derive(robot) -> dict:
 def Wind(settings, seed) -> aerial_signals.Wind:
     """Steady wind plus seeded first-order gusts and the drag it puts on the vehicle, as data: the
     model itself is C++ (cpp/sil/wind_drag.hpp: exact discretization of d/dt g = -g / tau +
-    sigma sqrt(2 / tau) white noise per axis, vertical gusts halved, drag at the vehicle's CoM),
-    the same in both loops."""
+    sigma sqrt(2 / tau) white noise per axis, vertical gusts halved, drag at the vehicle's CoM)."""
     h = np.radians(settings["wind_heading_deg"])
     return aerial_signals.Wind(steady=settings["wind_speed"] * np.array([np.cos(h), np.sin(h), 0.0]),
                            ramp=max(float(settings["ramp"]), 1e-9),

@@ -1,10 +1,10 @@
-"""The multirotor family (with or without an arm) of the SIL rig (sil/rig.py), as data (sil/family.py): the MuJoCo
-plant (sil/aerial_plant.py) and the compiled AerialController from the robot file; the measurement
-y = [position (3); velocity (3); gyro (3); accel (3); quat (4); q (nq); qd (nq)] (the body
-origin's position and velocity from the free joint, a motion-capture stand-in; the IMU site's
-sensors; the arm's encoders, plant order); the command u = [thrust (rotors); tau (nq)]; the
-adapter on a reference table (cpp/sil/aerial_adapter.hpp); pushes at the vehicle's CoM, rotor
-faults as actuator-gain events, the wind a C++ disturbance. No control logic here.
+"""The multirotor family (with or without an arm) of the SIL rig (sil/rig.py), as data
+(sil/family.py): the MuJoCo plant (sil/aerial_plant.py) and the compiled AerialController from the
+robot file; the measurement y = [position (3); velocity (3); gyro (3); accel (3); quat (4); q (nq);
+qd (nq)] (the body origin's position and velocity from the free joint, a motion-capture stand-in;
+the IMU site's sensors; the arm's encoders, plant order); the command u = [thrust (rotors); tau
+(nq)]; the adapter on a reference table (cpp/sil/aerial_adapter.hpp); pushes at the vehicle's CoM,
+rotor faults as actuator-gain events, the wind a C++ disturbance. No control logic here.
 """
 from __future__ import annotations
 
@@ -36,7 +36,7 @@ def aerial_paths():
 
 
 def rotor_config(robot=None) -> "kl.RotorAllocationConfig":
-    """The controller's rotor settings from the robot file's [[rotors]] (the one place they live)."""
+    """The controller's rotor settings from the robot file's [[rotors]] (where they live)."""
     return aerial_robot.rotor_config(load_robot(robot))
 
 

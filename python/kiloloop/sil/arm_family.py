@@ -1,9 +1,9 @@
-"""The arm family of the SIL rig (sil/rig.py), as data (sil/family.py): the MuJoCo plant of the robot file's chain
-(only the chain actuated, everything else welded, meshes resolved; sil/plant.py), the measurement
-y = [q (nq); qd (nq)] from its joint sensors (plus the sensors a reference asks for: a tool's
-force), the command u = tau (nq). An arm's scenarios choose among several controllers (computed
-torque, PD + gravity, Cartesian tracking, a supervisor, hybrid force/position): the reference
-names its controller and its C++ adapter (sil/arm_adapters.py). No control logic here.
+"""The arm family of the SIL rig (sil/rig.py), as data (sil/family.py): the MuJoCo plant of the robot
+file's chain (only the chain actuated, everything else welded, meshes resolved; sil/plant.py), the
+measurement y = [q (nq); qd (nq)] from its joint sensors (plus the sensors a reference asks for: a
+tool's force), the command u = tau (nq). An arm's scenarios choose among several controllers
+(computed torque, PD + gravity, Cartesian tracking, a supervisor, hybrid force/position): the
+reference names its controller and its C++ adapter (sil/arm_adapters.py). No control logic here.
 """
 from __future__ import annotations
 
@@ -104,8 +104,9 @@ def events(parts: ArmParts, timed) -> list:
     tip = int(p.model.site_bodyid[p.model.site(p.ee_site).id])
     for t, e in timed:
         if isinstance(e, ev.Push):
-            body = tip if e.body is None else (
-                int(e.body) if isinstance(e.body, (int, np.integer)) else int(p.model.body(e.body).id))
+            named = isinstance(e.body, str)
+            body = tip if e.body is None else (int(p.model.body(e.body).id) if named
+                                               else int(e.body))
             out.append(ev.force_event(t, body, [*e.force, 0.0, 0.0, 0.0], e.duration))
         elif isinstance(e, ev.EStop):
             out.append((float(t), ev.ESTOP, [1.0 if e.pressed else 0.0]))

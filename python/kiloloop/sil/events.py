@@ -63,11 +63,13 @@ class FellBelow:
     height: float
 
 
-def force_event(time: float, body: int, wrench, duration: float, at_subtree_com: bool = False) -> tuple:
+def force_event(time: float, body: int, wrench, duration: float,
+                at_subtree_com: bool = False) -> tuple:
     """A native force event: wrench (fx, fy, fz, tx, ty, tz) [N, N m], world frame, on MuJoCo
     body `body` for `duration` [s] from `time` [s]; at_subtree_com: at the body's subtree CoM
     (a vehicle's) instead of its own."""
     w = [float(x) for x in wrench]
     if len(w) != 6:
         raise ValueError(f"wrench: expected 6 values, got {len(w)}")
-    return (float(time), FORCE, [float(body)] + w + [float(duration)] + ([1.0] if at_subtree_com else []))
+    at_com = [1.0] if at_subtree_com else []
+    return (float(time), FORCE, [float(body)] + w + [float(duration)] + at_com)

@@ -1,6 +1,6 @@
-"""Realistic sensors of the quadruped SIL rig: settings, and the C++ measurement stages both loops
-run (cpp/sil/legged_sensor_stages.hpp; the native loop from Rollout(stages=...), the per-tick
-Python loop through stage.apply(t, y)), so there is one implementation and the logs stay equal.
+"""Realistic sensors of the quadruped SIL rig: settings, and the C++ measurement stages the native
+loop runs (cpp/sil/legged_sensor_stages.hpp, Rollout(stages=...); a test may call one through
+stage.apply(t, y)).
 
   IMU     gyro and accelerometer: white noise, bias random walk and a seeded turn-on bias, from
           Allan-variance parameters (defaults: Bosch BMI088, cpp/sil/imu_model.hpp). The

@@ -140,7 +140,7 @@ def start_state(plant, data=None):
 
 
 def signal_log(r, log: SignalLog | None = None) -> SignalLog:
-    """The rollout's channels as a SignalLog (the per-tick loop's result type)."""
+    """The rollout's channels as a SignalLog."""
     log = SignalLog() if log is None else log
     for name, series in r.log().items():
         log.put_array(name, series)

@@ -1,9 +1,9 @@
-"""The quadruped family of the SIL rig (sil/rig.py), as data (sil/family.py): the floating-base MuJoCo plant and
-the compiled QuadrupedController from the robot file, the measurement
-y = [q (12); qd (12); gyro (3); accel (3); quat (4)] (plant joint order, the IMU site's sensors;
-with ground_truth, the trunk's position (3), quaternion (4) and velocity (3) follow), the command
-u = tau (12) (plant order), the adapter on a CommandSchedule (cpp/sil/quadruped_adapter.hpp),
-pushes on the trunk, the fall as a stop probe. No control logic here.
+"""The quadruped family of the SIL rig (sil/rig.py), as data (sil/family.py): the floating-base MuJoCo
+plant and the compiled QuadrupedController from the robot file, the measurement y = [q (12); qd
+(12); gyro (3); accel (3); quat (4)] (plant joint order, the IMU site's sensors; with ground_truth,
+the trunk's position (3), quaternion (4) and velocity (3) follow), the command u = tau (12) (plant
+order), the adapter on a CommandSchedule (cpp/sil/quadruped_adapter.hpp), pushes on the trunk, the
+fall as a stop probe. No control logic here.
 """
 from __future__ import annotations
 

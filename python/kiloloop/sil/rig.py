@@ -9,8 +9,8 @@ A family is data, not a subclass: a Family record (sil/family.py; filled in by a
 quadruped_family.py, aerial_family.py) of functions that build the parts from the robot file
 (plant, controller), map the measurement (which MuJoCo addresses the controller reads, with which
 noise and stages), name the actuators, turn the scenario's reference into the C++ adapter, list
-the ground-truth probes and turn events into native events. `run()` is the native loop; video frames and Python checks
-happen between ticks (Rollout.advance, native.drive), never inside one.
+the ground-truth probes and turn events into native events. `run()` is the native loop; video
+frames and Python checks happen between ticks (Rollout.advance, native.drive), never inside one.
 """
 from __future__ import annotations
 
@@ -76,11 +76,11 @@ class Rig:
         """A configured native Rollout of `duration` [s] (run it with .run(), batch.run or
         native.drive). events: (time [s], event) pairs of sil/events.py; stop: a FellBelow;
         observe: extra ground truth (family-specific: an arm's native.Observe); probes: more
-        (name, source, ids) probes after the family's (native.contact_count, geom_distance); stages: more C++ measurement stages after
-        the signal chain's (a sensor dropout); disturbances: a Wind (sil/aerial_signals.py) or a
-        C++ disturbance model;
-        data: another MjData of plant.model (native.start_state); seed: another noise stream;
-        adapter: one built with adapter(reference, controller)."""
+        (name, source, ids) probes after the family's (native.contact_count, geom_distance);
+        stages: more C++ measurement stages after the signal chain's (a sensor dropout);
+        disturbances: a Wind (sil/aerial_signals.py) or a C++ disturbance model; data: another
+        MjData of plant.model (native.start_state); seed: another noise stream; adapter: one
+        built with adapter(reference, controller)."""
         native.check()
         f, p = self.family, self.parts
         seed = self.seed if seed is None else int(seed)
