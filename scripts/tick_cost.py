@@ -24,9 +24,9 @@ def _family(name: str):
         return (rig, lambda s: b._rollouts(rig, command, 1, s)[0],
                 lambda rig, log: b._applied_torques(rig, log["tau"]), actuators)
     from kiloloop.bench import native_aerial_bench as b
-    rig, command, table_fn = b._setup()
+    rig, command = b._setup()
     actuators = [int(a) for a in rig.plant._rotor_act] + [int(a) for a in rig.plant._act]
-    return rig, lambda s: b._rollouts(rig, command, table_fn, 1, s)[0], b._applied_commands, actuators
+    return rig, lambda s: b._rollouts(rig, command, 1, s)[0], b._applied_commands, actuators
 
 
 def main() -> None:
