@@ -210,7 +210,11 @@ bool Rollout::configure(const mjModel* model, mjData* data, std::shared_ptr<Adap
   probe_src_.clear();
   probe_end_.clear();
   probe_values_.assign(config.probes.size(), 0.0);  // never resized again: probe_src_ points in
+  computed_probes_.clear();
   for (size_t i = 0; i < config.probes.size(); ++i) {
+    const Probe::Source source = config.probes[i].source;
+    if (source == Probe::Source::kContactCount || source == Probe::Source::kGeomDistance)
+      computed_probes_.push_back(static_cast<int>(i));
     probe_sources(data, config.probes[i], contact_forces_[i], &probe_values_[i], &probe_src_);
     probe_end_.push_back(probe_src_.size());
   }
@@ -291,8 +295,8 @@ bool Rollout::stop_due(int k) noexcept {
 
 void Rollout::compute_probes() noexcept {
   // The probes that are a function of the state rather than one of its arrays, on the state the
-  // tick starts from (as the other probes).
-  for (size_t p = 0; p < config_.probes.size(); ++p) {
+  // tick starts from (as the other probes); only those, resolved at configure (most runs: none).
+  for (int p : computed_probes_) {
     const Probe& probe = config_.probes[p];
     if (probe.source == Probe::Source::kContactCount)
       probe_values_[p] = contacts_involving(d_, probe.index);

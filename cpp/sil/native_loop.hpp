@@ -143,6 +143,8 @@ class Rollout {
   std::vector<ContactForces> contact_forces_;  // per probe (empty unless kContactForce)
   std::vector<double> probe_values_;     // per probe: the value a computed probe (contacts,
                                          // distance) writes each tick before the copy
+  std::vector<int> computed_probes_;     // indices of the computed probes (kContactCount,
+                                         // kGeomDistance): the only ones compute_probes visits
   std::vector<const double*> probe_src_;  // every probe element's source, in log order
   std::vector<size_t> probe_end_;         // per probe: one past its last entry in probe_src_
   LogBuffer log_;
