@@ -3,6 +3,7 @@
 
 namespace kiloloop::py_glue {
 void bind_firmware(py::module_& m);  // bind_firmware.cpp
+void bind_detmath(py::module_& m);   // bind_detmath.cpp
 }  // namespace kiloloop::py_glue
 
 PYBIND11_MODULE(_core, m) {
@@ -25,4 +26,5 @@ PYBIND11_MODULE(_core, m) {
   bind_aerial(m);
   bind_native(m);
   bind_firmware(m);
+  bind_detmath(m);
 }

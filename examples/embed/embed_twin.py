@@ -10,8 +10,9 @@ code, so the torques must be bit-identical too (tests/test_embed_example.py chec
 Bit identity needs the *inputs* to be identical, which is why the encoders are replayed from a
 closed-form expression of the tick rather than integrated from a plant: a plant's state goes
 through a linear solve, and numpy's LU and Eigen's LDLT round differently. The replay uses
-math.sin/math.cos on Python floats (the C library's sin/cos, as std::sin/std::cos in C++, never
-numpy's own SIMD versions) and evaluates each expression in the same order as main.cpp.
+kl.detmath.sin/cos on Python floats (SLEEF's, which std::sin/std::cos are in a program linked with
+kiloloop::core; not math.sin, the system's libm, nor numpy's SIMD versions) and evaluates each
+expression in the same order as main.cpp.
 """
 import math
 import sys
@@ -43,8 +44,8 @@ def replay_encoders(tick, q_ref, qd_ref, q, qd):
     for j in range(len(q)):
         k = float(j + 1)
         # float(...) keeps every operation on Python floats (IEEE doubles), as in C++.
-        q[j] = float(q_ref[j]) + POSITION_NOISE * math.sin(POSITION_RATE * tick * k)
-        qd[j] = float(qd_ref[j]) + VELOCITY_NOISE * math.cos(VELOCITY_RATE * tick * k)
+        q[j] = float(q_ref[j]) + POSITION_NOISE * kl.detmath.sin(POSITION_RATE * tick * k)
+        qd[j] = float(qd_ref[j]) + VELOCITY_NOISE * kl.detmath.cos(VELOCITY_RATE * tick * k)
 
 
 def run(urdf_path):

@@ -52,11 +52,11 @@ constexpr double kWaypoints[kWaypointCount][kWaypointNq] = {  // [rad]
     {1.0, -1.0, 0.8, -1.4, -1.0, 0.8},
 };
 
-// Replayed encoders: a small known error per joint, different for each joint. q and qd use
-// different phase rates so that no sin and cos share an argument: GCC would fuse such a pair into
-// one sincos() call, and glibc does not promise sincos() rounds like sin() and cos() (which is
-// what Python's math.sin/math.cos call). embed_twin.py evaluates the same expressions in the
-// same order, on doubles, with the same libm.
+// Replayed encoders: a small known error per joint, different for each joint. std::sin and
+// std::cos are SLEEF's here (kiloloop::core links kiloloop::detmath ahead of libm), as
+// kl.detmath.sin/cos are in Python: embed_twin.py evaluates the same expressions in the same
+// order, on doubles, with the same functions. (q and qd use different phase rates; a sin and cos
+// of one argument, which GCC fuses into one sincos call, would give the same bits too.)
 constexpr double kPositionNoise = 1e-3;   // [rad]
 constexpr double kPositionRate = 0.01;    // [rad/tick] per joint index
 constexpr double kVelocityNoise = 1e-2;   // [rad/s]

@@ -125,7 +125,10 @@ def write_export(robot, family: Family, model, config, out_dir, extra: dict | No
     digest = robot.digest()
     text = header_source(robot, family, model, config, digest, __version__)
     header = out / HEADER
-    header.write_text(text)
+    # Rewritten only when it changes: a firmware build against it stays up to date (a b2b run of
+    # another duration or seed rebuilds nothing).
+    if not header.is_file() or header.read_text() != text:
+        header.write_text(text)
     root, tip, locked = chain_of(model)
     manifest = {
         "robot": robot.name, "robot_file": str(robot.path), "robot_sha256": digest,
