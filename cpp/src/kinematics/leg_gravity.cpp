@@ -10,6 +10,18 @@ namespace kiloloop {
 namespace {
 // pi [rad] (M_PI is POSIX, not ISO C++: firmware toolchains); its own name in the unity build
 constexpr double kHalfTurn = 3.14159265358979323846;
+
+// Three draws as a vector, drawn z, then y, then x. Sequenced on purpose: the order in which a
+// call's arguments are evaluated is unspecified in C++ (GCC takes them right to left on x86-64,
+// left to right on aarch64), so Vector3d(draw(), draw(), draw()) is another vector on another
+// target. z first is the order the x86-64 build always had: its fits and baselines stay.
+template <class Draw>
+Eigen::Vector3d draw_vector(Draw&& draw) {
+  const double z = draw();
+  const double y = draw();
+  const double x = draw();
+  return Eigen::Vector3d(x, y, z);
+}
 }  // namespace
 
 // b[3 u + v] = U_u V_v, U = {1, c1, s1, c12, s12}, V = {1, c0, s0}.
@@ -40,8 +52,9 @@ Status LegGravity::configure(const RobotModel& model, const std::string& trunk, 
   constexpr int kFit = 60;
   Eigen::Matrix<double, kFit, kTerms> B;
   Eigen::Matrix<double, kFit, 3> M;
+  auto draw = [&] { return angle(rng); };
   for (int k = 0; k < kFit; ++k) {
-    const Eigen::Vector3d q(angle(rng), angle(rng), angle(rng));
+    const Eigen::Vector3d q = draw_vector(draw);
     Eigen::Vector3d foot_pos, moment;
     Eigen::Matrix3d J;
     LegKinematics::Trig trig;
@@ -59,8 +72,8 @@ Status LegGravity::configure(const RobotModel& model, const std::string& trunk, 
   // Check: torques against ChainRne's gravity pass at other poses and gravity directions.
   double worst = 0.0, scale = 0.0;
   for (int k = 0; k < 40; ++k) {
-    const Eigen::Vector3d q(angle(rng), angle(rng), angle(rng));
-    const Eigen::Vector3d gravity = 9.81 * Eigen::Vector3d(angle(rng), angle(rng), angle(rng)).normalized();
+    const Eigen::Vector3d q = draw_vector(draw);
+    const Eigen::Vector3d gravity = 9.81 * draw_vector(draw).normalized();
     Eigen::Vector3d ref;
     rne.gravity_torque(q.data(), gravity, ref.data());
     worst = std::max(worst, (g.torque(q, gravity) - ref).lpNorm<Eigen::Infinity>());
