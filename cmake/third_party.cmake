@@ -8,12 +8,13 @@
 set(KILOLOOP_THIRD_PARTY_CACHE "${CMAKE_CURRENT_SOURCE_DIR}/build/third_party" CACHE PATH
     "where the third-party source tarballs are downloaded to (shared by the build directories)")
 
-# kiloloop_fetch_source(<out_var> NAME <file> SHA256 <hash> URLS <url>...)
+# kiloloop_fetch_source(<out_var> NAME <file> SHA256 <hash> URLS <url>... [PATTERNS <glob>...])
 # Downloads <file> (the first URL that answers, into the cache; a file already there with the right
-# hash is reused), extracts it into ${CMAKE_BINARY_DIR}/third_party/<file minus extension> and sets
-# <out_var> to that directory's one top-level folder.
+# hash is reused), extracts it (only the members matching PATTERNS, if given) into
+# ${CMAKE_BINARY_DIR}/third_party/<file minus extension> and sets <out_var> to that directory's
+# one top-level folder.
 function(kiloloop_fetch_source out_var)
-  cmake_parse_arguments(ARG "" "NAME;SHA256" "URLS" ${ARGN})
+  cmake_parse_arguments(ARG "" "NAME;SHA256" "URLS;PATTERNS" ${ARGN})
   set(tarball "${KILOLOOP_THIRD_PARTY_CACHE}/${ARG_NAME}")
   file(MAKE_DIRECTORY "${KILOLOOP_THIRD_PARTY_CACHE}")
   # Two builds may configure at once (`make test`: the sanitizer stage beside the wheel).
@@ -57,7 +58,11 @@ function(kiloloop_fetch_source out_var)
   endif()
   if(NOT extracted STREQUAL ARG_SHA256)
     file(REMOVE_RECURSE "${dest}")
-    file(ARCHIVE_EXTRACT INPUT "${tarball}" DESTINATION "${dest}")
+    if(ARG_PATTERNS)
+      file(ARCHIVE_EXTRACT INPUT "${tarball}" DESTINATION "${dest}" PATTERNS ${ARG_PATTERNS})
+    else()
+      file(ARCHIVE_EXTRACT INPUT "${tarball}" DESTINATION "${dest}")
+    endif()
     file(WRITE "${dest}/.sha256" "${ARG_SHA256}")
   endif()
   file(GLOB top LIST_DIRECTORIES true "${dest}/*")

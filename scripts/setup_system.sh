@@ -4,10 +4,13 @@
 # As root: apt-get installs them. Otherwise: prints the exact command and fails.
 set -euo pipefail
 # libosmesa6: CPU OpenGL for `--video` (MuJoCo offscreen rendering with MUJOCO_GL=osmesa).
-# KDL and SLEEF are not among them: CMake builds both from Debian's source tarballs, fetched at
-# configure time (cmake/third_party.cmake). libkdl-parser-dev (the C++ tests' oracle) brings
-# Debian's own KDL with it.
-packages=(libeigen3-dev liburdfdom-dev libkdl-parser-dev libgtest-dev g++ libosmesa6)
+# KDL and musl's math are not among them: CMake builds both from Debian's source tarballs,
+# fetched at configure time (cmake/third_party.cmake). libkdl-parser-dev (the C++ tests' oracle)
+# brings Debian's own KDL with it.
+# g++-aarch64-linux-gnu, qemu-user: `kiloloop pil ROBOT --target aarch64` (cross compiler and
+# user-mode emulator; measured here: 16 s to install, about 300 MB).
+packages=(libeigen3-dev liburdfdom-dev libkdl-parser-dev libgtest-dev g++ libosmesa6
+          g++-aarch64-linux-gnu qemu-user)
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

@@ -1,7 +1,7 @@
 """CPU independence on x86-64 (issue 31, item 4): a SIL log recorded here, with glibc's FMA and
 AVX2 code paths enabled, replays bit for bit through the firmware binary with those paths
 disabled at run time (glibc tunables), for one robot of each family. Before the deterministic
-math (SLEEF behind the libm names, docs/firmware.md) the ur5's replay differed at tick 1242 of
+math (musl's behind the libm names, docs/firmware.md) the ur5's replay differed at tick 1242 of
 8 s, and within the 2 s here.
 """
 import os

@@ -9,6 +9,10 @@
 //   kiloloop_firmware run LOG SECONDS     the same inputs (the log looped) at 1 kHz on absolute
 //                                         deadlines; prints the wake-up latency histogram, the
 //                                         step time and the deadline overruns
+//   kiloloop_firmware pil LOG             replay, with the step between the PIL markers, then the
+//                                         footprint: heap held by init, the steps' stack
+//                                         high-water mark (footprint.hpp; `kiloloop pil` runs it
+//                                         on the target under QEMU)
 //   kiloloop_firmware model-check ROOT TIP STATES OUT
 //                                         the exported description's chain ROOT -> TIP: mass
 //                                         matrix, gravity and Coriolis at the states in STATES
@@ -25,6 +29,7 @@
 
 #include "family.hpp"
 #include "fixed_rate.hpp"
+#include "footprint.hpp"
 #include "kiloloop/dynamics/dynamics.hpp"
 #include "replay_io.hpp"
 #include "robot_export.hpp"
@@ -44,9 +49,8 @@ struct Firmware {
   firmware::ReplayIo<exported::Input, exported::Output> io;
 };
 
-// Init: the model from the exported description, the controller from the exported settings,
-// the replayed log.
-int init(Firmware* fw, const char* log) {
+// Init: the model from the exported description, the controller from the exported settings.
+int init_controller(Firmware* fw) {
   std::string why;
   if (kiloloop::failed(exported::make_model(&fw->model, &why)))
     return fail("cannot build the exported model", why);
@@ -54,6 +58,13 @@ int init(Firmware* fw, const char* log) {
                                                        &fw->controller, &why)))
     return fail("cannot configure the controller", why);
   firmware::make_io(fw->controller, &fw->in, &fw->out);
+  return 0;
+}
+
+// Init, then the replayed log.
+int init(Firmware* fw, const char* log) {
+  if (int rc = init_controller(fw)) return rc;
+  std::string why;
   if (!fw->io.open(log, exported::kFamily, fw->in, fw->out, &why)) return fail("log", why);
   return 0;
 }
@@ -62,6 +73,15 @@ int init(Firmware* fw, const char* log) {
 void tick(Firmware& fw) noexcept {
   fw.io.read(fw.in);
   fw.controller.step(fw.in, fw.out);
+  fw.io.write(fw.out);
+}
+
+// The same tick with the step alone between the PIL markers (footprint.hpp).
+void tick_marked(Firmware& fw) noexcept {
+  fw.io.read(fw.in);
+  kiloloop_pil_step_begin();
+  fw.controller.step(fw.in, fw.out);
+  kiloloop_pil_step_end();
   fw.io.write(fw.out);
 }
 
@@ -85,6 +105,24 @@ int replay(const char* log) {
   auto fw = std::make_unique<Firmware>();
   if (int rc = init(fw.get(), log)) return rc;
   for (long k = 0; k < fw->io.ticks(); ++k) tick(*fw);
+  return report_identity(*fw, fw->io.ticks());
+}
+
+// The replay as the processor-in-the-loop run does it: the heap init holds (the log's buffer
+// not counted), the steps' stack high-water mark, then the identity line.
+int pil(const char* log) {
+  auto fw = std::make_unique<Firmware>();
+  const std::size_t heap_before = firmware::heap_in_use();
+  if (int rc = init_controller(fw.get())) return rc;
+  const std::size_t heap_init = firmware::heap_in_use() - heap_before;
+  std::string why;
+  if (!fw->io.open(log, exported::kFamily, fw->in, fw->out, &why)) return fail("log", why);
+  const firmware::StackPaint paint = firmware::paint_stack();
+  for (long k = 0; k < fw->io.ticks(); ++k) tick_marked(*fw);
+  const std::size_t stack = firmware::stack_reached(paint);
+  std::printf("heap held by init: %zu bytes\n", heap_init);
+  std::printf("stack high-water of the steps: %s%zu bytes\n",
+              stack >= firmware::kStackPaintBytes ? "at least " : "", stack);
   return report_identity(*fw, fw->io.ticks());
 }
 
@@ -140,10 +178,12 @@ int model_check(const char* root, const char* tip, const char* states_path, cons
 
 int main(int argc, char** argv) {
   if (argc == 3 && std::strcmp(argv[1], "replay") == 0) return replay(argv[2]);
+  if (argc == 3 && std::strcmp(argv[1], "pil") == 0) return pil(argv[2]);
   if (argc == 4 && std::strcmp(argv[1], "run") == 0) return run(argv[2], std::atof(argv[3]));
   if (argc == 6 && std::strcmp(argv[1], "model-check") == 0)
     return model_check(argv[2], argv[3], argv[4], argv[5]);
   std::fprintf(stderr,
-               "usage: %s replay LOG | run LOG SECONDS | model-check ROOT TIP STATES OUT\n", argv[0]);
+               "usage: %s replay LOG | pil LOG | run LOG SECONDS | model-check ROOT TIP STATES "
+               "OUT\n", argv[0]);
   return 2;
 }

@@ -1,7 +1,7 @@
 """The `kiloloop` command: list scenarios, run one, run the benchmarks.
 
-Exit codes, every subcommand: 0 passed (or done), 1 a scenario's criteria failed (b2b: outputs
-differ), 2 a usage or input error (one line on stderr naming the option, key or file: an
+Exit codes, every subcommand: 0 passed (or done), 1 a scenario's criteria failed (b2b, pil:
+outputs differ), 2 a usage or input error (one line on stderr naming the option, key or file: an
 InputError from anywhere below, or an argparse error), 3 kiloloop itself failed (a bug: the
 traceback is printed).
 """
@@ -187,6 +187,25 @@ def cmd_b2b(args) -> int:
     return 0 if result.identical and result.model_identical else 1
 
 
+def cmd_pil(args) -> int:
+    from .firmware.build import BuildError
+    from .firmware.pil import run_pil
+    from .scenarios import check_duration
+
+    duration = check_duration(args.duration)
+    echo = (lambda *_: None) if args.json else print
+    try:
+        result = run_pil(args.robot, target=args.target, duration=duration, seed=args.seed,
+                         sets=_robot_sets(args.set), work=args.work, scenario=args.scenario,
+                         echo=echo)
+    except BuildError as e:  # no cross compiler or QEMU, a failed build: the environment
+        print(f"kiloloop pil: {e.args[0]}", file=sys.stderr)
+        return 2
+    if args.json:
+        print(json.dumps(result.as_dict(), indent=2))
+    return 0 if result.identical else 1
+
+
 class _Parser(argparse.ArgumentParser):
     """argparse with its usage errors as InputError: one line, exit 2, like every input error
     (argparse's own prints the usage too)."""
@@ -333,6 +352,25 @@ def _build_parser() -> argparse.ArgumentParser:
     b2b.add_argument("--work", default=None, metavar="DIR",
                      help="build directory (default: build/firmware of the source tree)")
     b2b.set_defaults(func=cmd_b2b)
+    from .firmware.pil import TARGETS
+    pil = sub.add_parser("pil", help="processor-in-the-loop: the SIL log replayed by the firmware "
+                                     "cross-built for a target, under QEMU; bits, footprint, "
+                                     "instructions per step")
+    pil.add_argument("robot", metavar="NAME|FILE")
+    pil.add_argument("--target", required=True, choices=sorted(TARGETS))
+    pil.add_argument("--duration", type=float, default=None,
+                     help="simulated time [s] (default: the scenario file's, else 1)")
+    pil.add_argument("--seed", type=_seed, default=None,
+                     help="default: the scenario file's, else 0")
+    pil.add_argument("--scenario", default=None, metavar="FILE.toml",
+                     help="record the SIL run of this scenario file (default: the family's "
+                          "built-in b2b scenario)")
+    pil.add_argument("--set", action="append", default=[], metavar="KEY=VALUE")
+    pil.add_argument("--work", default=None, metavar="DIR",
+                     help="build directory (default: build/firmware of the source tree)")
+    pil.add_argument("--json", action="store_true",
+                     help="print the result as JSON (and nothing else)")
+    pil.set_defaults(func=cmd_pil)
     return parser
 
 

@@ -80,26 +80,40 @@ def check_model(exe: Path, robot, chains, work: Path) -> tuple[bool, int]:
     return True, compared
 
 
-def run_b2b(robot_arg, *, duration: float | None = None, seed: int | None = None,
-            sets: dict | None = None, work=None, prefix=None, echo=print,
-            scenario: str | None = None) -> B2bResult:
-    """SIL run -> log -> export -> firmware build -> replay, for one robot. `prefix`: an install of
-    the firmware core (build.install_rt_core) to build against; by default it is built or updated
-    in `work` first. scenario: a scenario file whose run is recorded (default: the family's
-    built-in b2b scenario); duration and seed None: the file's own, else 1 s and 0."""
+@dataclass
+class Recorded:
+    """A SIL run logged and its robot exported: what a replay, here or on a target, needs."""
+    robot: object            # kiloloop.Robot
+    family: object           # firmware.families.Family
+    here: Path               # <work>/<robot>: log, export, builds
+    log: Path
+    log_sha256: str
+    ticks: int
+    header: Path             # the export's robot_export.hpp
+    model: object            # the controller's kl.RobotModel (the model check's reference)
+
+
+def record_and_export(robot_arg, *, duration: float | None = None, seed: int | None = None,
+                      sets: dict | None = None, work=None, echo=print,
+                      scenario: str | None = None, what_for: str = "b2b",
+                      subdir: str = "") -> Recorded:
+    """The SIL run, every controller input and output logged (<work>/<robot>[/<subdir>]/b2b.log),
+    and the robot with its controller settings exported (export/ beside the log). scenario: a
+    scenario file whose run is recorded (default: the family's built-in b2b scenario); duration
+    and seed None: the file's own, else 1 s and 0. subdir: a run of its own (a PIL target's),
+    which a b2b run of the same robot at the same time does not overwrite."""
     from .. import _core
     from ..robot import Robot
 
     robot = Robot.load(robot_arg)
     family = family_of(robot)
-    source = build.source_root()
-    work = Path(work) if work else source / "build" / "firmware"
-    here = work / _slug(robot.name)
+    work = Path(work) if work else build.source_root() / "build" / "firmware"
+    here = work / _slug(robot.name) / subdir if subdir else work / _slug(robot.name)
     if scenario is None:
         duration = 1.0 if duration is None else duration
         seed = 0 if seed is None else seed
     what = scenario or family.scenario
-    echo(f"b2b {robot.name} ({family.name}): SIL {what}"
+    echo(f"{what_for} {robot.name} ({family.name}): SIL {what}"
          + (f", {duration:g} s" if duration is not None else "")
          + (f", seed {seed}" if seed is not None else ""))
     rec = record_sil_run(robot, family, duration=duration, seed=seed, sets=sets,
@@ -111,19 +125,32 @@ def run_b2b(robot_arg, *, duration: float | None = None, seed: int | None = None
     header = write_export(robot, family, c.model, c.config, here / "export",
                           {"scenario": what, "seed": seed, "duration": duration})
     echo(f"  export: {header}")
+    return Recorded(robot, family, here, log, digest, rec.ticks, header, c.model)
+
+
+def run_b2b(robot_arg, *, duration: float | None = None, seed: int | None = None,
+            sets: dict | None = None, work=None, prefix=None, echo=print,
+            scenario: str | None = None) -> B2bResult:
+    """SIL run -> log -> export -> firmware build -> replay, for one robot. `prefix`: an install of
+    the firmware core (build.install_rt_core) to build against; by default it is built or updated
+    in `work` first. scenario, duration, seed: as record_and_export's."""
+    source = build.source_root()
+    work = Path(work) if work else source / "build" / "firmware"
+    r = record_and_export(robot_arg, duration=duration, seed=seed, sets=sets, work=work,
+                          echo=echo, scenario=scenario)
     prefix = Path(prefix) if prefix else build.install_rt_core(source, work)
-    exe = build.build_firmware(source, prefix, header.parent, here / "build")
+    exe = build.build_firmware(source, prefix, r.header.parent, r.here / "build")
     echo(f"  firmware: {exe} (-fno-exceptions -fno-rtti)")
-    proc = build.run_firmware(exe, "replay", log)
+    proc = build.run_firmware(exe, "replay", r.log)
     if proc.returncode not in (0, 1):
         raise build.BuildError(f"replay failed: {proc.stderr.strip()}")
     line = proc.stdout.strip()
-    model_ok, chains = check_model(exe, robot, model_chains(robot, c.model), here)
+    model_ok, chains = check_model(exe, r.robot, model_chains(r.robot, r.model), r.here)
     if chains:
         echo(f"  model: mass matrix, gravity, Coriolis at {MODEL_CHECK_STATES} states on "
              f"{chains} chain(s) equal to the URDF-loaded model's: {'yes' if model_ok else 'NO'}")
     else:  # a rigid vehicle: its mass and inertia reach the outputs, which the replay compares
         echo("  model: no movable joints, no joint-space dynamics to compare")
     echo(line)
-    return B2bResult(robot.name, rec.ticks, digest, line, proc.returncode == 0 and
+    return B2bResult(r.robot.name, r.ticks, r.log_sha256, line, proc.returncode == 0 and
                      line.startswith("bit-identical"), model_ok, chains)

@@ -7,6 +7,9 @@ the kiloloop source tree):
     prefix/    its install: what find_package(kiloloop) finds (one install for every robot's
                firmware and for examples/embed: the tests build the core once per session)
     <robot>/   the robot's export, b2b log and firmware build (examples/firmware)
+    core-<target>/, prefix-<target>/, <robot>/pil-<target>/
+               the same for a cross target (`kiloloop pil`: a CMake toolchain file of cmake/;
+               the core alone, no URDF loader: the firmware reads the exported description)
 """
 from __future__ import annotations
 
@@ -68,29 +71,39 @@ def _run(cmd: list) -> str:
     return proc.stdout
 
 
-def install_rt_core(source: Path, work: Path, jobs: int = 2) -> Path:
+def install_rt_core(source: Path, work: Path, jobs: int = 2, toolchain: Path | None = None,
+                    suffix: str = "") -> Path:
     """Builds (incrementally) and installs the no-exceptions core and the URDF loader; returns
-    the install prefix."""
+    the install prefix. toolchain: a CMake toolchain file, for a cross target (then the core
+    alone, in core<suffix>/ and prefix<suffix>/)."""
     cmake = _tool("cmake")
-    core, prefix = work / "core", work / "prefix"
+    core, prefix = work / f"core{suffix}", work / f"prefix{suffix}"
     cache = core / "CMakeCache.txt"
+    options = list(CORE_OPTIONS)
+    targets = ["kiloloop_core", "kiloloop_urdf"]
+    if toolchain is not None:
+        options = [o for o in options if not o.startswith("-DKILOLOOP_BUILD_URDF")]
+        options += [f"-DCMAKE_TOOLCHAIN_FILE={toolchain}", "-DKILOLOOP_BUILD_URDF=OFF"]
+        targets = ["kiloloop_core"]
     if not cache.is_file() or "KILOLOOP_CORE_NO_EXCEPTIONS:BOOL=ON" not in cache.read_text():
-        _run([cmake, "-S", source, "-B", core, *_generator(), *CORE_OPTIONS])
+        _run([cmake, "-S", source, "-B", core, *_generator(), *options])
     # Only what is installed: the test helpers (alloc_counter throws bad_alloc) are no firmware
     # code, and the export tool is the Python module's.
-    _run([cmake, "--build", core, "--target", "kiloloop_core", "kiloloop_urdf",
-          "--parallel", str(jobs)])
+    _run([cmake, "--build", core, "--target", *targets, "--parallel", str(jobs)])
     _run([cmake, "--install", core, "--prefix", prefix, "--component", "dev"])
     return prefix
 
 
-def build_firmware(source: Path, prefix: Path, export_dir: Path, build_dir: Path) -> Path:
-    """Builds examples/firmware against `prefix` for the header in `export_dir`; the executable."""
+def build_firmware(source: Path, prefix: Path, export_dir: Path, build_dir: Path,
+                   toolchain: Path | None = None) -> Path:
+    """Builds examples/firmware against `prefix` for the header in `export_dir`; the executable.
+    toolchain: a CMake toolchain file, for a cross target."""
     cmake = _tool("cmake")
     if not (build_dir / "CMakeCache.txt").is_file():
+        cross = [f"-DCMAKE_TOOLCHAIN_FILE={toolchain}"] if toolchain is not None else []
         _run([cmake, "-S", source / "examples" / "firmware", "-B", build_dir, *_generator(),
               "-DCMAKE_BUILD_TYPE=Release", f"-DCMAKE_PREFIX_PATH={prefix}",
-              f"-DKILOLOOP_EXPORT_DIR={export_dir}"])
+              f"-DKILOLOOP_EXPORT_DIR={export_dir}", *cross])
     _run([cmake, "--build", build_dir])
     return build_dir / "kiloloop_firmware"
 
