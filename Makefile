@@ -44,7 +44,7 @@ SAN_ENV := ASAN_OPTIONS=detect_leaks=1:abort_on_error=1:strict_string_checks=1 \
            UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
            LSAN_OPTIONS=suppressions=$(abspath tests/lsan.supp)
 
-.PHONY: demo test cpp-build cpp-test bench build system-deps clean robot-matrix matrix matrix-seeds quadruped-robots fuzz sanitize \
+.PHONY: demo test cpp-build cpp-test bench pil build system-deps clean robot-matrix matrix matrix-seeds quadruped-robots fuzz sanitize \
         b2b firmware-loop
 
 demo: build
@@ -98,6 +98,12 @@ quadruped-robots: build
 # -fno-rtti, build/firmware/) -> replay, bit for bit (docs/firmware.md).
 b2b: build
 	for robot in ur5 quadruped aerial_manipulator; do $(BIN)/kiloloop b2b $$robot || exit 1; done
+
+# Processor-in-the-loop, the whole set (scripts/pil_matrix.py): ur5, quadruped, aerial_manipulator
+# and example-robot-data's ur3, go1 and iris, 2 s each, on every target `kiloloop pil` knows;
+# `make test` runs the three families on 0.3 s logs (tests/test_pil_*.py).
+pil: build
+	$(BIN)/python scripts/pil_matrix.py --duration 2
 
 # The firmware example's fixed-rate loop, 10 s at 1 kHz on this machine (figures: bench/).
 firmware-loop: build
