@@ -1,6 +1,6 @@
 // kl.detmath: the deterministic math (docs/firmware.md) for Python code that must compute what
 // the compiled core computes, bit for bit (a twin of a C++ program, examples/embed/embed_twin.py).
-// Each is the C library's function as this module binds it: SLEEF's (cpp/detmath/libm_names.c),
+// Each is the C library's function as this module binds it: musl's (cpp/detmath/libm_names.c),
 // not the interpreter's math.sin (the system's libm, whose results depend on the CPU).
 #include <cmath>
 
@@ -9,7 +9,7 @@
 namespace kiloloop::py_glue {
 
 void bind_detmath(py::module_& m) {
-  auto d = m.def_submodule("detmath", "SLEEF's scalar functions, as the compiled core calls them");
+  auto d = m.def_submodule("detmath", "musl's C math, as the compiled core calls it");
   d.def("sin", [](double x) { return std::sin(x); }, py::arg("x"));
   d.def("cos", [](double x) { return std::cos(x); }, py::arg("x"));
   d.def("tan", [](double x) { return std::tan(x); }, py::arg("x"));

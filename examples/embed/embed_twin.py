@@ -10,7 +10,7 @@ code, so the torques must be bit-identical too (tests/test_embed_example.py chec
 Bit identity needs the *inputs* to be identical, which is why the encoders are replayed from a
 closed-form expression of the tick rather than integrated from a plant: a plant's state goes
 through a linear solve, and numpy's LU and Eigen's LDLT round differently. The replay uses
-kl.detmath.sin/cos on Python floats (SLEEF's, which std::sin/std::cos are in a program linked with
+kl.detmath.sin/cos on Python floats (musl's, which std::sin/std::cos are in a program linked with
 kiloloop::core; not math.sin, the system's libm, nor numpy's SIMD versions) and evaluates each
 expression in the same order as main.cpp.
 """

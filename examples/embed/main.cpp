@@ -53,7 +53,7 @@ constexpr double kWaypoints[kWaypointCount][kWaypointNq] = {  // [rad]
 };
 
 // Replayed encoders: a small known error per joint, different for each joint. std::sin and
-// std::cos are SLEEF's here (kiloloop::core links kiloloop::detmath ahead of libm), as
+// std::cos are musl's here (kiloloop::core links kiloloop::detmath ahead of libm), as
 // kl.detmath.sin/cos are in Python: embed_twin.py evaluates the same expressions in the same
 // order, on doubles, with the same functions. (q and qd use different phase rates; a sin and cos
 // of one argument, which GCC fuses into one sincos call, would give the same bits too.)

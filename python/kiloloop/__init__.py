@@ -16,7 +16,7 @@ if not (_os.environ.get("DISPLAY") or _os.environ.get("WAYLAND_DISPLAY")):
 from ._core import *  # noqa: F401,F403
 from ._core import __version__  # noqa: F401
 from ._core import qp  # noqa: F401  (kl.qp.solve, kl.qp.DenseQpSolver)
-from ._core import detmath  # noqa: F401  (SLEEF's sin, cos, ... as the core calls them)
+from ._core import detmath  # noqa: F401  (musl's sin, cos, ... as the core calls them)
 from .robot import Robot, RobotFileError  # noqa: F401  (robot files: docs/robots.md)
 
 
