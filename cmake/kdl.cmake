@@ -11,6 +11,19 @@ kiloloop_fetch_source(KILOLOOP_KDL_SOURCE_DIR
   URLS "http://deb.debian.org/debian/pool/main/o/orocos-kdl/orocos-kdl_1.5.1.orig.tar.gz")
 set(_kdl_src "${KILOLOOP_KDL_SOURCE_DIR}/orocos_kdl/src")
 
+# newlib (a bare-metal target's C library, cmake/toolchain-cortex-m7.cmake) defines _L as a macro
+# in <ctype.h> (a character class bit); KDL's LMA solver names a parameter _L. On that target the
+# parameter is renamed in the extracted copy (build directory only; the same code otherwise).
+if(CMAKE_SYSTEM_NAME STREQUAL Generic)
+  foreach(_f chainiksolverpos_lma.hpp chainiksolverpos_lma.cpp)
+    file(READ "${_kdl_src}/${_f}" _text)
+    string(REGEX REPLACE "([^A-Za-z0-9_])_L([^A-Za-z0-9_])" "\\1L_weights\\2" _patched "${_text}")
+    if(NOT _patched STREQUAL _text)
+      file(WRITE "${_kdl_src}/${_f}" "${_patched}")
+    endif()
+  endforeach()
+endif()
+
 # Headers as the library installs them (<kdl/frames.hpp>, <kdl/utilities/...>) plus config.h as
 # Debian's build configures it (KDL 1.5.1, HAVE_STL_CONTAINER_INCOMPLETE_TYPES).
 set(KILOLOOP_KDL_INCLUDE_DIR "${CMAKE_BINARY_DIR}/third_party/kdl-include")
