@@ -28,11 +28,19 @@
 #include <vector>
 
 #include "family.hpp"
-#include "fixed_rate.hpp"
 #include "footprint.hpp"
 #include "kiloloop/dynamics/dynamics.hpp"
 #include "replay_io.hpp"
 #include "robot_export.hpp"
+#if KILOLOOP_FIRMWARE_BARE_METAL
+// A microcontroller (cortex_m7/): the log streamed from the host's file, no POSIX clock (no
+// `run`); newlib's printf has no C99 formats (%a, %zu): doubles printed in 17 digits.
+#include "replay_stream_io.hpp"
+#define KILOLOOP_FMT_DOUBLE "%.17g"
+#else
+#include "fixed_rate.hpp"
+#define KILOLOOP_FMT_DOUBLE "%a"
+#endif
 
 namespace {
 
@@ -46,7 +54,11 @@ struct Firmware {
   exported::Controller controller;
   exported::Input in;
   exported::Output out;
+#if KILOLOOP_FIRMWARE_BARE_METAL
+  firmware::StreamReplayIo<exported::Input, exported::Output> io;
+#else
   firmware::ReplayIo<exported::Input, exported::Output> io;
+#endif
 };
 
 // Init: the model from the exported description, the controller from the exported settings.
@@ -94,8 +106,9 @@ int report_identity(const Firmware& fw, long ticks) {
   double a, b;
   std::memcpy(&a, &m.firmware_bits, 8);
   std::memcpy(&b, &m.log_bits, 8);
-  std::printf("differs at tick %ld: output field %s[%d]: firmware %a (0x%016llx), SIL log %a "
-              "(0x%016llx) (%ld ticks identical before)\n",
+  std::printf("differs at tick %ld: output field %s[%d]: firmware " KILOLOOP_FMT_DOUBLE
+              " (0x%016llx), SIL log " KILOLOOP_FMT_DOUBLE " (0x%016llx) (%ld ticks identical "
+              "before)\n",
               m.tick, m.field, m.element, a, (unsigned long long)m.firmware_bits, b,
               (unsigned long long)m.log_bits, fw.io.identical_ticks());
   return 1;
@@ -120,12 +133,15 @@ int pil(const char* log) {
   const firmware::StackPaint paint = firmware::paint_stack();
   for (long k = 0; k < fw->io.ticks(); ++k) tick_marked(*fw);
   const std::size_t stack = firmware::stack_reached(paint);
-  std::printf("heap held by init: %zu bytes\n", heap_init);
-  std::printf("stack high-water of the steps: %s%zu bytes\n",
-              stack >= firmware::kStackPaintBytes ? "at least " : "", stack);
+  // %lu, not %zu: newlib's printf (the bare-metal build) has no C99 size modifier.
+  std::printf("heap held by init: %lu bytes\n", static_cast<unsigned long>(heap_init));
+  std::printf("stack high-water of the steps: %s%lu bytes\n",
+              stack >= firmware::kStackPaintBytes ? "at least " : "",
+              static_cast<unsigned long>(stack));
   return report_identity(*fw, fw->io.ticks());
 }
 
+#if !KILOLOOP_FIRMWARE_BARE_METAL
 int run(const char* log, double seconds) {
   auto fw = std::make_unique<Firmware>();
   if (int rc = init(fw.get(), log)) return rc;
@@ -144,6 +160,7 @@ int run(const char* log, double seconds) {
   std::printf("first pass through the log (%ld ticks): ", fw->io.ticks());
   return report_identity(*fw, std::min(ticks, fw->io.ticks()));
 }
+#endif
 
 int model_check(const char* root, const char* tip, const char* states_path, const char* out_path) {
   std::string why;
@@ -179,7 +196,9 @@ int model_check(const char* root, const char* tip, const char* states_path, cons
 int main(int argc, char** argv) {
   if (argc == 3 && std::strcmp(argv[1], "replay") == 0) return replay(argv[2]);
   if (argc == 3 && std::strcmp(argv[1], "pil") == 0) return pil(argv[2]);
+#if !KILOLOOP_FIRMWARE_BARE_METAL
   if (argc == 4 && std::strcmp(argv[1], "run") == 0) return run(argv[2], std::atof(argv[3]));
+#endif
   if (argc == 6 && std::strcmp(argv[1], "model-check") == 0)
     return model_check(argv[2], argv[3], argv[4], argv[5]);
   std::fprintf(stderr,
