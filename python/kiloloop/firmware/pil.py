@@ -1,12 +1,12 @@
-"""`kiloloop pil ROBOT --target aarch64`: processor-in-the-loop. The SIL run is recorded on this
-x86-64 machine (as `kiloloop b2b` records it), the robot exported, the firmware cross-compiled
-for the target (a CMake toolchain file of cmake/) and its replay run on the target's instruction
-set under QEMU: "bit-identical: N ticks" against the x86-64 SIL outputs, or the first differing
-tick and field. Besides the bits, what the target would spend: the executable's static sizes
-(text, data, bss), the heap init holds, the steps' stack high-water mark (examples/firmware
+"""`kiloloop pil ROBOT --target aarch64|cortex-m7`: processor-in-the-loop. The SIL run is recorded
+on this x86-64 machine (as `kiloloop b2b` records it), the robot exported, the firmware cross-
+compiled for the target (a CMake toolchain file of cmake/) and its replay run on the target's
+instruction set under QEMU: "bit-identical: N ticks" against the x86-64 SIL outputs, or the first
+differing tick and field. Besides the bits, what the target would spend: the executable's static
+sizes (text, data, bss), the heap init holds, the steps' stack high-water mark (examples/firmware
 footprint.hpp), and the guest instructions of each controller step, counted by a QEMU plugin
-(cpp/pil/insn_counter.c) between two marker calls, with the step time they imply at a stated
-clock and a stated cycles-per-instruction assumption (QEMU counts instructions, not cycles).
+(cpp/pil/insn_counter.c) between two marker calls, with the step time they imply at a stated clock
+and a stated cycles-per-instruction assumption (QEMU counts instructions, not cycles).
 """
 from __future__ import annotations
 
@@ -33,9 +33,23 @@ class Target:
     clock_hz: float      # [Hz] its clock
     cpi: float           # cycles per instruction assumed (QEMU counts instructions only)
     cpi_why: str
+    # A QEMU machine for a bare-metal target (system emulation; the firmware's stdio, argv and
+    # files through semihosting: examples/firmware/cortex_m7/); "": a Linux user-mode target.
+    machine: str = ""
 
     def command(self, exe: Path, args: list, plugin: str) -> list[str]:
-        return [self.emulator, "-plugin", plugin, str(exe), *map(str, args)]
+        if not self.machine:
+            return [self.emulator, "-plugin", plugin, str(exe), *map(str, args)]
+        # argv goes to the firmware as one command line split at spaces (startup.c); QEMU's
+        # option syntax takes a comma in a value as ",,".
+        argv = ["kiloloop_firmware", *map(str, args)]
+        if any(" " in a for a in argv):
+            raise build.BuildError(f"the {self.name} firmware's arguments cannot hold spaces: "
+                                   f"{argv}")
+        semihosting = ",".join(["enable=on", "target=native",
+                                *(f"arg={a.replace(',', ',,')}" for a in argv)])
+        return [self.emulator, "-M", self.machine, "-nographic",
+                "-semihosting-config", semihosting, "-plugin", plugin, "-kernel", str(exe)]
 
 
 TARGETS = {
@@ -44,7 +58,23 @@ TARGETS = {
     "aarch64": Target("aarch64", "toolchain-aarch64-linux-gnu.cmake", "aarch64-linux-gnu-",
                       "qemu-aarch64", "g++-aarch64-linux-gnu qemu-user", "Cortex-A72", 1.5e9,
                       1.0, "scalar double arithmetic, dependency-bound on a 3-wide core"),
+    # A Cortex-M7 with the double-precision FPU (STM32H7 class, 480 MHz), bare metal: QEMU's
+    # MPS2-AN500 machine, the log streamed from the host's file through semihosting. A
+    # dual-issue in-order core, but its FPU issues one double operation at a time with a
+    # latency of several cycles (divide and square root far more), and the steps' scalar double
+    # arithmetic waits on it: 1.5 cycles per instruction assumed, code and data in cache or
+    # tightly coupled memory.
+    "cortex-m7": Target("cortex-m7", "toolchain-cortex-m7.cmake", "arm-none-eabi-",
+                        "qemu-system-arm", "gcc-arm-none-eabi libstdc++-arm-none-eabi-newlib "
+                        "qemu-system-arm", "Cortex-M7", 480e6, 1.5,
+                        "in-order; double-precision FPU operations of several cycles' latency",
+                        machine="mps2-an500"),
 }
+
+# The budget a Cortex-M7 target is checked against: an STM32H7's flash and RAM [bytes]
+# (the linker script, examples/firmware/cortex_m7/mps2_an500.ld, holds the link to them).
+M7_FLASH_BYTES = 2 * 1024 * 1024
+M7_RAM_BYTES = 1024 * 1024
 
 
 @dataclass
@@ -162,6 +192,10 @@ def run_pil(robot_arg, *, target: str, duration: float | None = None, seed: int 
         worst * per_us <= STEP_BUDGET_US)
     echo(f"  footprint: text {text} B, data {data} B, bss {bss} B (the whole executable); "
          f"heap held by init {heap} B; stack high-water of the steps {stack} B")
+    if t.machine:  # bare metal: the whole program is the firmware, in the board's memories
+        echo(f"  {t.processor} budget: flash {text + data} of {M7_FLASH_BYTES} B (text + data); "
+             f"RAM {data + bss + heap + stack} of {M7_RAM_BYTES} B (data + bss + heap held by "
+             f"init + the steps' stack)")
     echo(f"  instructions per step ({steps} steps, QEMU plugin): median {median}, max {worst}")
     echo(f"  implied step time on a {t.processor} at {t.clock_hz / 1e9:g} GHz, {t.cpi:g} cycles "
          f"per instruction assumed ({t.cpi_why}): median {result.step_us_median:.1f} us, "
