@@ -64,3 +64,11 @@ target_link_libraries(kiloloop_kdl PUBLIC Eigen3::Eigen kiloloop_detmath)
 target_compile_definitions(kiloloop_kdl PUBLIC EIGEN_DONT_VECTORIZE)
 # Third-party code: its warnings are not kiloloop's to fix.
 target_compile_options(kiloloop_kdl PRIVATE -w)
+if(KILOLOOP_SANITIZE)
+  # Instrumented like the core (ASan, and UBSan's other checks), but for UBSan's null check: KDL
+  # 1.5.1's TreeIdSolver_RNE::rne_step takes a member through a null map node (stl_tree.h,
+  # "member call on null pointer"), which the C++ tests reach through that solver, their oracle
+  # (ChainFolding.ChainTorquesEqualTheTreeWithOffChainJointsLocked). KDL's to fix, not kiloloop's;
+  # the core never calls that solver.
+  target_compile_options(kiloloop_kdl PRIVATE -fno-sanitize=null)
+endif()

@@ -1,5 +1,5 @@
 # Cross-compiling for a Cortex-A (aarch64) Linux computer, the legged robot's or a drone's
-# companion computer, with Debian's g++-aarch64-linux-gnu (scripts/setup_system.sh --pil):
+# companion computer, with Debian's g++-aarch64-linux-gnu (scripts/setup_system.sh):
 #   cmake -S . -B build/aarch64 -DCMAKE_TOOLCHAIN_FILE=cmake/toolchain-aarch64-linux-gnu.cmake
 # `kiloloop pil ROBOT --target aarch64` builds the firmware core and the firmware with it and
 # runs them under qemu-aarch64 (user mode).

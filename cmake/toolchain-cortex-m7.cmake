@@ -1,6 +1,6 @@
 # Cross-compiling for a Cortex-M7 with a double-precision FPU (the STM32H7 class of flight
 # controllers), bare metal, with Debian's arm-none-eabi-gcc and newlib
-# (gcc-arm-none-eabi, libstdc++-arm-none-eabi-newlib: scripts/setup_system.sh --pil):
+# (gcc-arm-none-eabi, libstdc++-arm-none-eabi-newlib: scripts/setup_system.sh):
 #   cmake -S . -B build/cortex-m7 -DCMAKE_TOOLCHAIN_FILE=cmake/toolchain-cortex-m7.cmake
 # `kiloloop pil ROBOT --target cortex-m7` builds the firmware core and the firmware with it and
 # runs them on QEMU's MPS2-AN500 machine (a Cortex-M7), the log read through semihosting

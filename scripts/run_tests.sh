@@ -28,9 +28,17 @@ trap 'kill "$san_pid" 2>/dev/null' INT TERM
 ( time make --no-print-directory build 2>&3 ) 3>&2 2>build/build-stage.time \
   || { echo "==> make build FAILED; stopping the sanitizer stage"; kill "$san_pid" 2>/dev/null; wait; exit 1; }
 echo "==> make build: $(cat build/build-stage.time)"
-echo "==> Python tests (pytest)"
-( time .venv/bin/python -m pytest -q 2>&3 ) 3>&2 2>build/pytest-stage.time
+# The PIL targets' cross-compiled cores (aarch64, Cortex-M7), niced, beside pytest: they take the
+# core pytest (one process) and the sanitizer stage leave; pytest's PIL tests run last and wait
+# for them (a lock per core directory; python/kiloloop/firmware/build.py).
+( nice -n 10 .venv/bin/python -c "from kiloloop.firmware.pil import prebuild; print('PIL cores built:', prebuild())" \
+    >build/pil-prebuild.log 2>&1 ) &
+pil_pid=$!
+trap 'kill "$san_pid" "$pil_pid" 2>/dev/null' INT TERM
+echo "==> Python tests (pytest; the PIL cores build beside it, log build/pil-prebuild.log)"
+( time .venv/bin/python -m pytest -q --durations=15 2>&3 ) 3>&2 2>build/pytest-stage.time
 py_rc=$?
+wait "$pil_pid" || echo "==> the PIL core prebuild failed (the PIL tests say why): $(tail -n 3 build/pil-prebuild.log)"
 echo "==> pytest: $(cat build/pytest-stage.time); waiting for the sanitizer stage"
 
 wait "$san_pid"

@@ -11,12 +11,11 @@ set -euo pipefail
 # user-mode emulator; measured here: 16 s to install, about 300 MB).
 packages=(libeigen3-dev liburdfdom-dev libkdl-parser-dev libgtest-dev g++ libosmesa6
           g++-aarch64-linux-gnu qemu-user)
-# --pil: also `kiloloop pil ROBOT --target cortex-m7` (bare-metal compiler, newlib's C++ library,
-# the system emulator with the MPS2-AN500 machine). Optional: measured here, 64 s to install and
+# gcc-arm-none-eabi, libstdc++-arm-none-eabi-newlib, qemu-system-arm: `kiloloop pil ROBOT
+# --target cortex-m7` (bare-metal compiler, newlib's C++ library, the system emulator with the
+# MPS2-AN500 machine); `make test` runs one family there. Measured here: 64 s to install and
 # 2.5 GB (2,547 MB by apt; most of it newlib and libstdc++ built for every Arm multilib).
-if [ "${1:-}" = "--pil" ]; then
-  packages+=(gcc-arm-none-eabi libstdc++-arm-none-eabi-newlib qemu-system-arm)
-fi
+packages+=(gcc-arm-none-eabi libstdc++-arm-none-eabi-newlib qemu-system-arm)
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

@@ -36,3 +36,10 @@ def firmware_prefix():
     cores from clean) where each used to compile its own."""
     from kiloloop.firmware import build
     return build.install_rt_core(ROOT, ROOT / "build" / "firmware")
+
+
+def pytest_collection_modifyitems(session, config, items):
+    """The processor-in-the-loop tests (tests/test_pil_*.py) run last: `make test` builds their
+    cross-compiled cores in the background meanwhile (scripts/run_tests.sh), and a PIL test that
+    comes before its core is built waits for it."""
+    items.sort(key=lambda item: Path(str(item.fspath)).name.startswith("test_pil_"))

@@ -4,7 +4,7 @@ bare metal for a Cortex-M7 with its double-precision FPU and run on QEMU's MPS2-
 the log streamed through semihosting; the firmware fits an STM32H7's 2 MB flash and 1 MB RAM.
 One family on a short log (the arm: the cross core build is minutes, the replay a second).
 Skipped where Debian's gcc-arm-none-eabi, libstdc++-arm-none-eabi-newlib or qemu-system-arm is
-missing (`scripts/setup_system.sh --pil` installs them).
+missing (`scripts/setup_system.sh` installs them; CI has them).
 """
 import shutil
 import subprocess
@@ -23,7 +23,7 @@ pytestmark = pytest.mark.skipif(
                                       "arm-none-eabi-nm", "arm-none-eabi-size",
                                       "qemu-system-arm")),
     reason="the Cortex-M7 PIL needs gcc-arm-none-eabi, libstdc++-arm-none-eabi-newlib and "
-           "qemu-system-arm (scripts/setup_system.sh --pil)")
+           "qemu-system-arm (scripts/setup_system.sh)")
 
 
 def test_cortex_m7_replay_is_bit_identical_and_fits_an_stm32h7():

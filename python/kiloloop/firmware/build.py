@@ -13,6 +13,7 @@ the kiloloop source tree):
 """
 from __future__ import annotations
 
+import fcntl
 import os
 import shutil
 import subprocess
@@ -78,6 +79,16 @@ def install_rt_core(source: Path, work: Path, jobs: int = 2, toolchain: Path | N
     alone, in core<suffix>/ and prefix<suffix>/)."""
     cmake = _tool("cmake")
     core, prefix = work / f"core{suffix}", work / f"prefix{suffix}"
+    work.mkdir(parents=True, exist_ok=True)
+    # One build of a core directory at a time (`make test` builds the cross cores in the
+    # background while pytest runs; a PIL test then waits here for it, and builds nothing more).
+    with open(work / f"core{suffix}.lock", "w") as lock:
+        fcntl.flock(lock, fcntl.LOCK_EX)
+        return _install_rt_core(cmake, source, core, prefix, jobs, toolchain)
+
+
+def _install_rt_core(cmake: str, source: Path, core: Path, prefix: Path, jobs: int,
+                     toolchain: Path | None) -> Path:
     cache = core / "CMakeCache.txt"
     options = list(CORE_OPTIONS)
     targets = ["kiloloop_core", "kiloloop_urdf"]

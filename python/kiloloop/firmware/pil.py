@@ -10,6 +10,7 @@ and a stated cycles-per-instruction assumption (QEMU counts instructions, not cy
 """
 from __future__ import annotations
 
+import fcntl
 import shutil
 import subprocess
 from dataclasses import asdict, dataclass
@@ -109,7 +110,7 @@ def _need(program: str, target: Target) -> str:
     found = shutil.which(program)
     if found is None:
         raise build.BuildError(f"{program} not found: the {target.name} PIL needs Debian's "
-                               f"{target.packages} (scripts/setup_system.sh --pil)")
+                               f"{target.packages} (scripts/setup_system.sh)")
     return found
 
 
@@ -117,11 +118,33 @@ def build_plugin(source: Path, work: Path) -> Path:
     """The instruction-counting QEMU plugin (host code), built once in <work>/pil-plugin."""
     cmake = build._tool("cmake")
     out = work / "pil-plugin"
-    if not (out / "CMakeCache.txt").is_file():
-        build._run([cmake, "-S", source / "cpp" / "pil", "-B", out, *build._generator(),
-                    f"-DKILOLOOP_THIRD_PARTY_CACHE={source / 'build' / 'third_party'}"])
-    build._run([cmake, "--build", out])
+    work.mkdir(parents=True, exist_ok=True)
+    with open(work / "pil-plugin.lock", "w") as lock:  # prebuild() may be at it (make test)
+        fcntl.flock(lock, fcntl.LOCK_EX)
+        if not (out / "CMakeCache.txt").is_file():
+            build._run([cmake, "-S", source / "cpp" / "pil", "-B", out, *build._generator(),
+                        f"-DKILOLOOP_THIRD_PARTY_CACHE={source / 'build' / 'third_party'}"])
+        build._run([cmake, "--build", out])
     return out / "libkiloloop_insn_counter.so"
+
+
+def prebuild(targets=None, work=None, jobs: int = 2) -> list[str]:
+    """Builds the firmware core of every target whose tools this machine has (all of TARGETS by
+    default) and the QEMU plugin, ahead of the PIL runs: `make test` runs it in the background
+    beside pytest (scripts/run_tests.sh), whose PIL tests come last. The names built."""
+    source = build.source_root()
+    work = Path(work) if work else source / "build" / "firmware"
+    built = []
+    for name in targets or TARGETS:
+        t = TARGETS[name]
+        if not all(shutil.which(p) for p in (t.emulator, t.tools + "nm", t.tools + "size")):
+            continue
+        build.install_rt_core(source, work, jobs=jobs, toolchain=source / "cmake" / t.toolchain,
+                              suffix=f"-{t.name}")
+        built.append(name)
+    if built:
+        build_plugin(source, work)
+    return built
 
 
 def symbol_address(target: Target, exe: Path, name: str) -> int:
