@@ -1,6 +1,6 @@
 #pragma once
 // ReplayIo's twin for a target whose RAM cannot hold the log (a Cortex-M7: 1 MB, where 2 s of
-// the quadruped's log are 5 MB): the log stays in the file (on the bare-metal build, the host's
+// the quadruped's log are 1.8 MB): the log stays in the file (on the bare-metal build, the host's
 // file through semihosting) and each read() takes one tick's record from it, one C library read
 // per tick (unbuffered: no stdio buffer in RAM, one semihosting call). The same calls and the
 // same comparison as ReplayIo (replay_io.hpp); RAM held: one tick's record and the scratch
