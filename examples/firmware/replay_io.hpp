@@ -20,6 +20,48 @@ struct Mismatch {
   std::int64_t firmware_bits = 0, log_bits = 0;
 };
 
+// The log's header against the exported robot (init time): the magic, the family, the record
+// sizes. false with the reason in *why.
+inline bool check_log_header(const kiloloop::LogHeader& h, bool header_read,
+                             kiloloop::Family family, std::size_t in_bytes,
+                             std::size_t out_bytes, std::string* why) {
+  auto fail = [why](const std::string& msg) {
+    *why = msg;
+    return false;
+  };
+  if (!header_read || std::memcmp(h.magic, kiloloop::kLogMagic, sizeof h.magic) != 0)
+    return fail("not a kiloloop b2b log");
+  if (h.family != static_cast<std::int64_t>(family))
+    return fail("the log is of another robot family than the exported robot");
+  if (static_cast<std::size_t>(h.input_bytes) != in_bytes ||
+      static_cast<std::size_t>(h.output_bytes) != out_bytes)
+    return fail("record sizes differ from the exported robot's (" +
+                std::to_string(h.input_bytes) + "/" + std::to_string(h.output_bytes) +
+                " bytes in the log, " + std::to_string(in_bytes) + "/" +
+                std::to_string(out_bytes) + " here): another robot's log?");
+  return true;
+}
+
+// One tick's output against the logged one, bit for bit: true if equal; else *m holds the tick,
+// the first differing field and element and both 8-byte words. scratch: out_bytes of room.
+template <class Output>
+bool compare_output(const Output& out, const unsigned char* expected, std::size_t out_bytes,
+                    long tick, unsigned char* scratch, Mismatch* m) noexcept {
+  kiloloop::write_record(out, scratch);
+  if (std::memcmp(scratch, expected, out_bytes) == 0) return true;
+  std::size_t k = 0;
+  while (scratch[k] == expected[k]) ++k;
+  kiloloop::FieldAt at(k);
+  kiloloop::visit_fields(const_cast<Output&>(out), at);
+  const std::size_t word = k / 8 * 8;
+  m->tick = tick;
+  m->field = at.name();
+  m->element = at.element();
+  std::memcpy(&m->firmware_bits, scratch + word, 8);
+  std::memcpy(&m->log_bits, expected + word, 8);
+  return false;
+}
+
 template <class Input, class Output>
 class ReplayIo {
  public:
@@ -34,18 +76,9 @@ class ReplayIo {
     unsigned char chunk[65536];
     for (std::size_t n; (n = std::fread(chunk, 1, sizeof chunk, f)) > 0;) body.insert(body.end(), chunk, chunk + n);
     std::fclose(f);
-    if (!header_ok || std::memcmp(h.magic, kiloloop::kLogMagic, sizeof h.magic) != 0)
-      return fail(why, "not a kiloloop b2b log");
-    if (h.family != static_cast<std::int64_t>(family))
-      return fail(why, "the log is of another robot family than the exported robot");
     in_bytes_ = kiloloop::record_bytes(in);
     out_bytes_ = kiloloop::record_bytes(out);
-    if (static_cast<std::size_t>(h.input_bytes) != in_bytes_ ||
-        static_cast<std::size_t>(h.output_bytes) != out_bytes_)
-      return fail(why, "record sizes differ from the exported robot's (" +
-                           std::to_string(h.input_bytes) + "/" + std::to_string(h.output_bytes) +
-                           " bytes in the log, " + std::to_string(in_bytes_) + "/" +
-                           std::to_string(out_bytes_) + " here): another robot's log?");
+    if (!check_log_header(h, header_ok, family, in_bytes_, out_bytes_, why)) return false;
     const std::size_t tick_bytes = in_bytes_ + out_bytes_;
     if (body.empty() || body.size() % tick_bytes != 0) return fail(why, "truncated log");
     log_ = std::move(body);
@@ -73,22 +106,9 @@ class ReplayIo {
   void write(const Output& out) noexcept {
     const long tick = next_++;
     if (pass_ > 0 || mismatch_.tick >= 0) return;
-    kiloloop::write_record(out, scratch_.data());
-    const unsigned char* expected = record(tick) + in_bytes_;
-    if (std::memcmp(scratch_.data(), expected, out_bytes_) == 0) {
+    if (compare_output(out, record(tick) + in_bytes_, out_bytes_, tick, scratch_.data(),
+                       &mismatch_))
       ++identical_;
-      return;
-    }
-    std::size_t k = 0;
-    while (scratch_[k] == expected[k]) ++k;
-    kiloloop::FieldAt at(k);
-    kiloloop::visit_fields(const_cast<Output&>(out), at);
-    const std::size_t word = k / 8 * 8;
-    mismatch_.tick = tick;
-    mismatch_.field = at.name();
-    mismatch_.element = at.element();
-    std::memcpy(&mismatch_.firmware_bits, scratch_.data() + word, 8);
-    std::memcpy(&mismatch_.log_bits, expected + word, 8);
   }
 
   long identical_ticks() const { return identical_; }

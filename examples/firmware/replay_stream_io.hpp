@@ -13,7 +13,7 @@
 #include <vector>
 
 #include "kiloloop/firmware/record.hpp"
-#include "replay_io.hpp"  // Mismatch
+#include "replay_io.hpp"  // Mismatch, check_log_header, compare_output
 
 namespace firmware {
 
@@ -35,18 +35,9 @@ class StreamReplayIo {
     std::setvbuf(file_, nullptr, _IONBF, 0);  // one read per record, no buffer held
     kiloloop::LogHeader h{};
     const bool header_ok = std::fread(&h, sizeof h, 1, file_) == 1;
-    if (!header_ok || std::memcmp(h.magic, kiloloop::kLogMagic, sizeof h.magic) != 0)
-      return fail(why, "not a kiloloop b2b log");
-    if (h.family != static_cast<std::int64_t>(family))
-      return fail(why, "the log is of another robot family than the exported robot");
     in_bytes_ = kiloloop::record_bytes(in);
     out_bytes_ = kiloloop::record_bytes(out);
-    if (static_cast<std::size_t>(h.input_bytes) != in_bytes_ ||
-        static_cast<std::size_t>(h.output_bytes) != out_bytes_)
-      return fail(why, "record sizes differ from the exported robot's (" +
-                           std::to_string(h.input_bytes) + "/" + std::to_string(h.output_bytes) +
-                           " bytes in the log, " + std::to_string(in_bytes_) + "/" +
-                           std::to_string(out_bytes_) + " here): another robot's log?");
+    if (!check_log_header(h, header_ok, family, in_bytes_, out_bytes_, why)) return false;
     // The tick count from the file's length (semihosting: SYS_FLEN).
     if (std::fseek(file_, 0, SEEK_END) != 0) return fail(why, "cannot seek in the log");
     const long length = std::ftell(file_);
@@ -88,22 +79,9 @@ class StreamReplayIo {
       mismatch_.field = "(log read failed)";
       return;
     }
-    kiloloop::write_record(out, scratch_.data());
-    const unsigned char* expected = record_.data() + in_bytes_;
-    if (std::memcmp(scratch_.data(), expected, out_bytes_) == 0) {
+    if (compare_output(out, record_.data() + in_bytes_, out_bytes_, tick, scratch_.data(),
+                       &mismatch_))
       ++identical_;
-      return;
-    }
-    std::size_t k = 0;
-    while (scratch_[k] == expected[k]) ++k;
-    kiloloop::FieldAt at(k);
-    kiloloop::visit_fields(const_cast<Output&>(out), at);
-    const std::size_t word = k / 8 * 8;
-    mismatch_.tick = tick;
-    mismatch_.field = at.name();
-    mismatch_.element = at.element();
-    std::memcpy(&mismatch_.firmware_bits, scratch_.data() + word, 8);
-    std::memcpy(&mismatch_.log_bits, expected + word, 8);
   }
 
   long identical_ticks() const { return identical_; }
