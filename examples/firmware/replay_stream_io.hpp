@@ -55,25 +55,16 @@ class StreamReplayIo {
 
   long ticks() const { return ticks_; }
 
-  // The next tick's input; past the end it starts over with t and stamp shifted by the log's
-  // length, as ReplayIo. Outputs are compared on the first pass only.
+  // The next tick's input, exactly as logged. One pass through the log: the bare-metal firmware
+  // replays it once (`replay`, `pil`); looping it is the POSIX `run` command's, ReplayIo's.
   void read(Input& in) noexcept {
-    if (next_ == ticks_) {
-      next_ = 0;
-      ++pass_;
-      std::fseek(file_, static_cast<long>(sizeof(kiloloop::LogHeader)), SEEK_SET);
-    }
     read_ok_ = std::fread(record_.data(), 1, record_.size(), file_) == record_.size();
     kiloloop::read_record(record_.data(), in);
-    if (pass_ == 0) return;  // the logged input exactly
-    const double shift = static_cast<double>(pass_) * ticks_ * 0.001;  // [s] 1 kHz ticks
-    in.t += shift;
-    in.stamp += shift;
   }
 
   void write(const Output& out) noexcept {
     const long tick = next_++;
-    if (pass_ > 0 || mismatch_.tick >= 0) return;
+    if (mismatch_.tick >= 0) return;
     if (!read_ok_) {
       mismatch_.tick = tick;
       mismatch_.field = "(log read failed)";
@@ -96,7 +87,7 @@ class StreamReplayIo {
   std::FILE* file_ = nullptr;
   std::vector<unsigned char> record_, scratch_;  // one tick's input + output; the firmware's output
   std::size_t in_bytes_ = 0, out_bytes_ = 0;
-  long ticks_ = 0, next_ = 0, pass_ = 0, identical_ = 0;
+  long ticks_ = 0, next_ = 0, identical_ = 0;
   bool read_ok_ = true;
   Mismatch mismatch_;
 };

@@ -38,6 +38,11 @@ class Target:
     # files through semihosting: examples/firmware/cortex_m7/); "": a Linux user-mode target.
     machine: str = ""
 
+    @property
+    def programs(self) -> tuple[str, ...]:
+        """What a PIL run calls besides CMake and the compilers: the emulator, nm and size."""
+        return (self.emulator, self.tools + "nm", self.tools + "size")
+
     def command(self, exe: Path, args: list, plugin: str) -> list[str]:
         if not self.machine:
             return [self.emulator, "-plugin", plugin, str(exe), *map(str, args)]
@@ -137,7 +142,7 @@ def prebuild(targets=None, work=None, jobs: int = 2) -> list[str]:
     built = []
     for name in targets or TARGETS:
         t = TARGETS[name]
-        if not all(shutil.which(p) for p in (t.emulator, t.tools + "nm", t.tools + "size")):
+        if not all(shutil.which(p) for p in t.programs):
             continue
         build.install_rt_core(source, work, jobs=jobs, toolchain=source / "cmake" / t.toolchain,
                               suffix=f"-{t.name}")
@@ -177,7 +182,7 @@ def run_pil(robot_arg, *, target: str, duration: float | None = None, seed: int 
     if target not in TARGETS:
         raise build.BuildError(f"unknown target '{target}' (one of {', '.join(TARGETS)})")
     t = TARGETS[target]
-    for program in (t.emulator, t.tools + "nm", t.tools + "size"):
+    for program in t.programs:
         _need(program, t)
     source = build.source_root()
     work = Path(work) if work else source / "build" / "firmware"
