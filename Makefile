@@ -44,7 +44,7 @@ SAN_ENV := ASAN_OPTIONS=detect_leaks=1:abort_on_error=1:strict_string_checks=1 \
            UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
            LSAN_OPTIONS=suppressions=$(abspath tests/lsan.supp)
 
-.PHONY: demo test cpp-build cpp-test bench pil build system-deps clean robot-matrix matrix matrix-seeds quadruped-robots fuzz sanitize \
+.PHONY: demo test wheel cpp-build cpp-test bench pil build system-deps clean robot-matrix matrix matrix-seeds quadruped-robots fuzz sanitize \
         b2b firmware-loop
 
 demo: build
@@ -97,7 +97,7 @@ quadruped-robots: build
 # The firmware path for our three robots: SIL log -> export -> firmware build (-fno-exceptions
 # -fno-rtti, build/firmware/) -> replay, bit for bit (docs/firmware.md).
 b2b: build
-	for robot in ur5 quadruped aerial_manipulator; do $(BIN)/kiloloop b2b $$robot || exit 1; done
+	for robot in ur5 quadruped aerial_manipulator; do $(BIN)/kiloloop b2b $$robot --work build/firmware || exit 1; done
 
 # Processor-in-the-loop, the whole set (scripts/pil_matrix.py): ur5, quadruped, aerial_manipulator
 # and example-robot-data's ur3, go1 and iris, 2 s each, on every target `kiloloop pil` knows;
@@ -107,7 +107,7 @@ pil: build
 
 # The firmware example's fixed-rate loop, 10 s at 1 kHz on this machine (figures: bench/).
 firmware-loop: build
-	$(BIN)/kiloloop b2b quadruped
+	$(BIN)/kiloloop b2b quadruped --work build/firmware
 	build/firmware/quadruped/build/kiloloop_firmware run build/firmware/quadruped/b2b.log 10 \
 	  | tee bench/firmware_loop.txt
 
@@ -164,5 +164,20 @@ build: system-deps $(BIN)/python
 	       tail -n 25 $(PIP_LOG); df -h . /tmp; exit 1; }
 	@echo "==> kiloloop: built"
 
+# The self-contained wheel: `pip wheel` from build/py (the tree `make build` compiled: only the
+# install and the zip, seconds) into build/wheel-raw, then `auditwheel repair` grafts every
+# shared library outside the manylinux policy (urdfdom_model, console_bridge, tinyxml) into
+# kiloloop.libs/ with patchelf, and names the wheel by the oldest glibc its symbols allow
+# (docs/install.md). Prints the wheel, its size and the time taken.
+WHEEL_DIR := dist
+wheel: build
+	@start=$$SECONDS; rm -rf build/wheel-raw; mkdir -p $(WHEEL_DIR); \
+	$(BIN)/python -m pip install -q auditwheel patchelf && \
+	$(BIN)/python -m pip wheel -q --no-deps $(PIP_BUILD_FLAGS) -w build/wheel-raw . && \
+	rm -f $(WHEEL_DIR)/kiloloop-*.whl && \
+	PATH=$(abspath $(BIN)):$$PATH $(BIN)/auditwheel repair -w $(WHEEL_DIR) build/wheel-raw/kiloloop-*.whl && \
+	$(BIN)/auditwheel show $(WHEEL_DIR)/kiloloop-*.whl && \
+	echo "==> wheel: $$(ls $(WHEEL_DIR)/kiloloop-*.whl), $$(du -k $(WHEEL_DIR)/kiloloop-*.whl | cut -f1) KiB, $$((SECONDS - start)) s"
+
 clean:
-	rm -rf build $(OUT)
+	rm -rf build $(OUT) $(WHEEL_DIR)

@@ -56,7 +56,7 @@ def main() -> int:
             for label, robot in robots(Path(tmp)):
                 print(f"pil {label} on {target} ...", file=sys.stderr, flush=True)
                 r = run_pil(robot, target=target, duration=args.duration,
-                            echo=lambda *_: None)
+                            work=ROOT / "build" / "firmware", echo=lambda *_: None)
                 results.append((label, r))
     if args.json:
         print(json.dumps([dict(r.as_dict(), label=label) for label, r in results], indent=2))

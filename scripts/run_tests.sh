@@ -5,9 +5,11 @@
 #      UndefinedBehaviorSanitizer in build/asan, then ctest there. It needs no Python package, only
 #      cmake and ninja from .venv. Its output goes to build/asan-stage.log (the end is printed
 #      when it passes, the whole log when it fails).
-#   2. In the foreground: `make build` (the Python dependencies, the wheel in build/py), then
-#      pytest (it also builds the firmware core with -fno-exceptions -fno-rtti once and replays
-#      every robot's log through it, bit for bit).
+#   2. In the foreground: `make build` (the Python dependencies, the package built in build/py
+#      and installed into .venv, with its firmware kit: the core's archive the module links),
+#      `make wheel` (the self-contained wheel in dist/), then pytest (it builds every robot's
+#      firmware against the kit and replays its log through it, bit for bit; it installs the
+#      wheel into a fresh virtual environment and runs it with the Debian libraries hidden).
 # Why at once: the sanitizer stage is the longest and needs no wheel; the dependency downloads and
 # pytest (one Python process) leave a core it takes (docs/hardening.md: measured stage times).
 set -uo pipefail
@@ -31,10 +33,15 @@ echo "==> make build: $(cat build/build-stage.time)"
 # The PIL targets' cross-compiled cores (aarch64, Cortex-M7), niced, beside pytest: they take the
 # core pytest (one process) and the sanitizer stage leave; pytest's PIL tests run last and wait
 # for them (a lock per core directory; python/kiloloop/firmware/build.py).
-( nice -n 10 .venv/bin/python -c "from kiloloop.firmware.pil import prebuild; print('PIL cores built:', prebuild())" \
+( nice -n 10 .venv/bin/python -c "from kiloloop.firmware.pil import prebuild; print('PIL cores built:', prebuild(work='$PWD/build/firmware'))" \
     >build/pil-prebuild.log 2>&1 ) &
 pil_pid=$!
 trap 'kill "$san_pid" "$pil_pid" 2>/dev/null' INT TERM
+# The self-contained wheel (dist/; from build/py: seconds), which tests/test_wheel.py installs
+# into a fresh virtual environment and runs with the Debian libraries hidden.
+( time make --no-print-directory wheel 2>&3 ) 3>&2 2>build/wheel-stage.time \
+  || { echo "==> make wheel FAILED"; kill "$san_pid" "$pil_pid" 2>/dev/null; wait; exit 1; }
+echo "==> make wheel: $(cat build/wheel-stage.time)"
 echo "==> Python tests (pytest; the PIL cores build beside it, log build/pil-prebuild.log)"
 ( time .venv/bin/python -m pytest -q --durations=15 2>&3 ) 3>&2 2>build/pytest-stage.time
 py_rc=$?

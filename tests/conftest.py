@@ -29,13 +29,13 @@ def rng(request):
 
 @pytest.fixture(scope="session")
 def firmware_prefix():
-    """Install prefix of the firmware path's core (kiloloop_core compiled with -fno-exceptions
-    -fno-rtti, the URDF loader beside it), built once per session in the source tree's
-    build/firmware (incremental across sessions). The back-to-back tests and the embed example
-    both build against it through find_package(kiloloop): one core compile (about 3 minutes on 2
-    cores from clean) where each used to compile its own."""
+    """Install prefix of the x86-64 firmware core: the installed wheel's kit (the very static
+    libraries the Python module links: kiloloop_core compiled -fno-exceptions, the URDF loader
+    beside it), else, run from a source tree without a wheel install, built once per session in
+    the source tree's build/firmware (build.host_core). The back-to-back tests and the embed
+    example build against it through find_package(kiloloop)."""
     from kiloloop.firmware import build
-    return build.install_rt_core(ROOT, ROOT / "build" / "firmware")
+    return build.host_core(ROOT, ROOT / "build" / "firmware")
 
 
 def pytest_collection_modifyitems(session, config, items):

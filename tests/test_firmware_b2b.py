@@ -19,6 +19,7 @@ from kiloloop.robot import Robot
 import robot_files
 import quadruped_robots
 import aerial_test_robots
+from build_flags import object_flags, unity_sources
 
 ROOT = Path(__file__).resolve().parents[1]
 WORK = ROOT / "build" / "firmware"
@@ -73,20 +74,32 @@ def test_two_sil_runs_give_the_same_log_hash(tmp_path):
     assert other != hashes[0]  # the hash does see a changed run
 
 
-def test_the_installed_core_is_compiled_without_exceptions_and_rtti(firmware_prefix):
-    """What the replays run through: every kiloloop_core object compiled with -fno-exceptions
-    -fno-rtti (the real-time translation units as firmware compiles them); the URDF loader, init
-    time only, keeps exceptions."""
-    ninja = (WORK / "core" / "build.ninja").read_text()
-    flags = {}
-    for target, line in re.findall(r"^build CMakeFiles/(\w+)\.dir/\S+\.o: [^\n]*\n(?:  [^\n]*\n)*?"
-                                   r"  FLAGS = ([^\n]*)$", ninja, re.MULTILINE):
-        flags.setdefault(target, []).append(line.split())
+def test_the_firmware_core_is_compiled_without_exceptions(firmware_prefix):
+    """What the replays run through. With the wheel's kit (make build installs it): the kit's
+    libkiloloop_core.a is, byte for byte, the archive build/py linked into kiloloop._core, every
+    object of it compiled -fno-exceptions (RTTI kept for the bindings: CMakeLists.txt,
+    KILOLOOP_CORE_RTTI; the PIL cross cores are -fno-rtti too); without a kit, the core built in
+    build/firmware/core with -fno-exceptions -fno-rtti. Either way every core source is in it and
+    the URDF loader, init time only, keeps exceptions."""
+    from kiloloop.firmware.build import kit_prefix
+    kit = kit_prefix()
+    build_dir = ROOT / "build" / ("py" if kit is not None else "firmware/core")
+    if not (build_dir / "build.ninja").is_file():
+        pytest.skip(f"{build_dir} is not a Ninja build directory (built elsewhere)")
+    flags = object_flags(build_dir)
     assert flags.get("kiloloop_core"), sorted(flags)
-    assert all("-fno-exceptions" in f and "-fno-rtti" in f for f in flags["kiloloop_core"])
-    # A unity build (firmware/build.py): every core source is in one of those objects' units.
-    units = "".join(u.read_text() for u in (WORK / "core" / "CMakeFiles" / "kiloloop_core.dir" /
-                                            "Unity").glob("unity_*_cxx.cxx"))
+    assert all("-fno-exceptions" in f for f in flags["kiloloop_core"])
+    if kit is not None:
+        assert firmware_prefix == kit
+        archive = (kit / "lib" / "libkiloloop_core.a").read_bytes()
+        assert archive == (build_dir / "libkiloloop_core.a").read_bytes()
+        ninja = (build_dir / "build.ninja").read_text()
+        module_link = re.search(r"^build _core[^\n]*\.so: [^\n]*", ninja, re.MULTILINE).group(0)
+        assert "libkiloloop_core.a" in module_link
+    else:
+        assert all("-fno-rtti" in f for f in flags["kiloloop_core"])
+    # A unity build: every core source is in one of those objects' units.
+    units = unity_sources(build_dir)
     sources = [p for p in (ROOT / "cpp" / "src").rglob("*.cpp") if not p.name.endswith("_test.cpp")]
     assert len(sources) > 30 and all(f'"{p.resolve()}"' in units for p in sources)
     assert flags.get("kiloloop_urdf") and not any("-fno-exceptions" in f

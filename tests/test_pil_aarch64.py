@@ -13,6 +13,8 @@ import pytest
 
 from kiloloop.firmware.pil import TARGETS, run_pil
 
+from build_flags import object_flags, unity_sources
+
 ROOT = Path(__file__).resolve().parents[1]
 WORK = ROOT / "build" / "firmware"
 DURATION = 0.3  # [s] 300 ticks
@@ -53,3 +55,16 @@ def test_a_differing_log_is_reported_with_its_tick_and_field(tmp_path):
                            "replay", str(bad)], capture_output=True, text=True)
     assert proc.returncode == 1
     assert proc.stdout.startswith("differs at tick 49: output field "), proc.stdout
+
+
+def test_the_cross_core_is_compiled_without_exceptions_and_rtti():
+    """The no-RTTI proof of every core source (the x86-64 kit keeps RTTI for the bindings):
+    each kiloloop_core object of the aarch64 core is compiled -fno-exceptions -fno-rtti."""
+    run_pil("ur5", target="aarch64", duration=0.05, work=WORK, echo=lambda *_: None)
+    core = WORK / "core-aarch64"
+    flags = object_flags(core)
+    assert flags.get("kiloloop_core"), sorted(flags)
+    assert all("-fno-exceptions" in f and "-fno-rtti" in f for f in flags["kiloloop_core"])
+    sources = [p for p in (ROOT / "cpp" / "src").rglob("*.cpp") if not p.name.endswith("_test.cpp")]
+    units = unity_sources(core)
+    assert len(sources) > 30 and all(f'"{p.resolve()}"' in units for p in sources)

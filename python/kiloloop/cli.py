@@ -272,9 +272,28 @@ def main(argv=None) -> int:
         return 3
 
 
+class _PrintCmakePrefix(argparse.Action):
+    """--cmake-prefix: prints the kit's path and exits, like --version (no subcommand needed)."""
+
+    def __init__(self, option_strings, dest, **kwargs):
+        super().__init__(option_strings, dest, nargs=0, default=argparse.SUPPRESS, **kwargs)
+
+    def __call__(self, parser, namespace, values, option_string=None):
+        from .firmware.build import kit_prefix
+        kit = kit_prefix()
+        if kit is None:
+            parser.exit(2, "kiloloop: this installation has no firmware kit (a source tree's "
+                           "package without a wheel install): `make build` installs one\n")
+        print(kit)  # stdout: $(kiloloop --cmake-prefix)
+        parser.exit(0)
+
+
 def _build_parser() -> argparse.ArgumentParser:
     parser = _Parser(prog="kiloloop", description=__doc__,
                      formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--cmake-prefix", action=_PrintCmakePrefix,
+                        help="print the installed firmware kit's path, for find_package(kiloloop): "
+                             "cmake -DCMAKE_PREFIX_PATH=$(kiloloop --cmake-prefix) (docs/firmware.md)")
     sub = parser.add_subparsers(dest="command", required=True)
     sub.add_parser("list", help="list the SIL scenarios").set_defaults(func=cmd_list)
     run = sub.add_parser("run", help="run one SIL scenario")
@@ -350,7 +369,8 @@ def _build_parser() -> argparse.ArgumentParser:
                           "built-in b2b scenario)")
     b2b.add_argument("--set", action="append", default=[], metavar="KEY=VALUE")
     b2b.add_argument("--work", default=None, metavar="DIR",
-                     help="build directory (default: build/firmware of the source tree)")
+                     help="build directory (default: ~/.cache/kiloloop/firmware, or "
+                          "$XDG_CACHE_HOME/kiloloop/firmware)")
     b2b.set_defaults(func=cmd_b2b)
     from .firmware.pil import TARGETS
     pil = sub.add_parser("pil", help="processor-in-the-loop: the SIL log replayed by the firmware "
@@ -367,7 +387,8 @@ def _build_parser() -> argparse.ArgumentParser:
                           "built-in b2b scenario)")
     pil.add_argument("--set", action="append", default=[], metavar="KEY=VALUE")
     pil.add_argument("--work", default=None, metavar="DIR",
-                     help="build directory (default: build/firmware of the source tree)")
+                     help="build directory (default: ~/.cache/kiloloop/firmware, or "
+                          "$XDG_CACHE_HOME/kiloloop/firmware)")
     pil.add_argument("--json", action="store_true",
                      help="print the result as JSON (and nothing else)")
     pil.set_defaults(func=cmd_pil)

@@ -107,7 +107,7 @@ def record_and_export(robot_arg, *, duration: float | None = None, seed: int | N
 
     robot = Robot.load(robot_arg)
     family = family_of(robot)
-    work = Path(work) if work else build.source_root() / "build" / "firmware"
+    work = Path(work) if work else build.default_work()
     here = work / _slug(robot.name) / subdir if subdir else work / _slug(robot.name)
     if scenario is None:
         duration = 1.0 if duration is None else duration
@@ -132,13 +132,14 @@ def run_b2b(robot_arg, *, duration: float | None = None, seed: int | None = None
             sets: dict | None = None, work=None, prefix=None, echo=print,
             scenario: str | None = None) -> B2bResult:
     """SIL run -> log -> export -> firmware build -> replay, for one robot. `prefix`: an install of
-    the firmware core (build.install_rt_core) to build against; by default it is built or updated
-    in `work` first. scenario, duration, seed: as record_and_export's."""
+    the firmware core to build against; by default the installed kit, else (a source tree
+    without a wheel install) built or updated in `work` first (build.host_core). scenario,
+    duration, seed: as record_and_export's."""
     source = build.source_root()
-    work = Path(work) if work else source / "build" / "firmware"
+    work = Path(work) if work else build.default_work()
     r = record_and_export(robot_arg, duration=duration, seed=seed, sets=sets, work=work,
                           echo=echo, scenario=scenario)
-    prefix = Path(prefix) if prefix else build.install_rt_core(source, work)
+    prefix = Path(prefix) if prefix else build.host_core(source, work)
     exe = build.build_firmware(source, prefix, r.header.parent, r.here / "build")
     echo(f"  firmware: {exe} (-fno-exceptions -fno-rtti)")
     proc = build.run_firmware(exe, "replay", r.log)

@@ -1,15 +1,18 @@
-"""CMake steps of the firmware path, incremental in one work directory (default build/firmware of
-the kiloloop source tree):
+"""CMake steps of the firmware path, incremental in one work directory (default_work(): the
+user's cache, outside any source tree; `--work DIR` elsewhere):
 
-    core/      the core built with -fno-exceptions -fno-rtti (no Python): every real-time
-               translation unit (controllers, QP, model, dynamics) compiled as firmware compiles
-               it; the URDF loader beside it keeps exceptions (init time; examples/embed uses it)
-    prefix/    its install: what find_package(kiloloop) finds (one install for every robot's
-               firmware and for examples/embed: the tests build the core once per session)
     <robot>/   the robot's export, b2b log and firmware build (examples/firmware)
+    core/, prefix/
+               the x86-64 core built with -fno-exceptions -fno-rtti and its install, where no kit
+               is installed (a checkout's Python package run from the source tree)
     core-<target>/, prefix-<target>/, <robot>/pil-<target>/
                the same for a cross target (`kiloloop pil`: a CMake toolchain file of cmake/;
                the core alone, no URDF loader: the firmware reads the exported description)
+
+The installed wheel carries the firmware kit (kit_prefix(): kiloloop/kit/, the static libraries
+the Python module itself links, with their headers and CMake package; kiloloop/kit/source: the
+sources a cross target compiles and the firmware examples), so on x86-64 nothing of the core is
+compiled again: host_core() returns the kit.
 """
 from __future__ import annotations
 
@@ -27,7 +30,8 @@ RT_FLAGS = "-fno-exceptions -fno-rtti"
 # templates; the back-to-back tests prove its outputs equal the wheel's, bit for bit.
 CORE_OPTIONS = ["-DCMAKE_BUILD_TYPE=Release", "-DCMAKE_CXX_FLAGS=",
                 "-DCMAKE_UNITY_BUILD=ON", "-DCMAKE_UNITY_BUILD_BATCH_SIZE=8",
-                "-DKILOLOOP_CORE_NO_EXCEPTIONS=ON", "-DKILOLOOP_BUILD_URDF=ON",
+                "-DKILOLOOP_CORE_NO_EXCEPTIONS=ON", "-DKILOLOOP_CORE_RTTI=OFF",
+                "-DKILOLOOP_BUILD_URDF=ON",
                 "-DKILOLOOP_BUILD_PYTHON=OFF", "-DKILOLOOP_BUILD_BENCH=OFF",
                 "-DKILOLOOP_BUILD_TESTS=OFF", "-DKILOLOOP_BUILD_FUZZ=OFF"]
 
@@ -36,17 +40,56 @@ class BuildError(RuntimeError):
     """A CMake step failed; the message carries the command and the tail of its output."""
 
 
+def kit_prefix() -> Path | None:
+    """The installed package's firmware kit (an install prefix for find_package(kiloloop)), or
+    None where the package has none (run from a source tree without a wheel install)."""
+    kit = Path(__file__).resolve().parents[1] / "kit"
+    return kit if (kit / "lib" / "cmake" / "kiloloop" / "kiloloopConfig.cmake").is_file() else None
+
+
+def _is_source_tree(d: Path) -> bool:
+    cml = d / "CMakeLists.txt"
+    return (cml.is_file() and "project(kiloloop " in cml.read_text()
+            and (d / "examples" / "firmware").is_dir())
+
+
 def source_root() -> Path:
-    """The kiloloop source tree: $KILOLOOP_SOURCE, else the first directory from the current one
-    upwards whose CMakeLists.txt is kiloloop's."""
+    """The kiloloop sources the firmware path builds from: $KILOLOOP_SOURCE, else the first
+    directory from the current one upwards that is a kiloloop checkout, else the installed kit's
+    copy (kiloloop/kit/source)."""
     env = os.environ.get("KILOLOOP_SOURCE")
     candidates = [Path(env)] if env else [Path.cwd(), *Path.cwd().parents]
     for d in candidates:
-        cml = d / "CMakeLists.txt"
-        if cml.is_file() and "project(kiloloop " in cml.read_text() and (d / "examples/firmware").is_dir():
+        if _is_source_tree(d):
             return d.resolve()
-    raise BuildError("the kiloloop source tree (CMakeLists.txt, examples/firmware) was not found: "
-                     "run from inside it or set KILOLOOP_SOURCE")
+    kit = kit_prefix()
+    if env is None and kit is not None and _is_source_tree(kit / "source"):
+        return kit / "source"
+    raise BuildError(f"the kiloloop source tree (CMakeLists.txt, examples/firmware) was not found "
+                     f"{'in KILOLOOP_SOURCE=' + env if env else 'and the installed package has no kit'}"
+                     ": set KILOLOOP_SOURCE to a checkout, or install the kiloloop wheel")
+
+
+def default_work() -> Path:
+    """Where the firmware path builds by default: $XDG_CACHE_HOME/kiloloop/firmware (else
+    ~/.cache/kiloloop/firmware), outside any source tree and any installed package."""
+    cache = os.environ.get("XDG_CACHE_HOME") or str(Path.home() / ".cache")
+    return Path(cache) / "kiloloop" / "firmware"
+
+
+def third_party_cache(source: Path, work: Path) -> Path:
+    """Download cache of the third-party sources (musl, KDL, QEMU's plugin header; version pinned,
+    hash checked: cmake/third_party.cmake): a checkout's build/third_party, else the work
+    directory's (the kit's source may be read-only)."""
+    kit = kit_prefix()
+    in_kit = kit is not None and source.resolve().is_relative_to(kit)
+    return work / "third_party" if in_kit else source / "build" / "third_party"
+
+
+def host_core(source: Path, work: Path, jobs: int = 2) -> Path:
+    """The x86-64 firmware core to build against: the installed kit, else (no kit) built and
+    installed in `work` (install_rt_core)."""
+    return kit_prefix() or install_rt_core(source, work, jobs=jobs)
 
 
 def _tool(name: str) -> str:
@@ -84,13 +127,20 @@ def install_rt_core(source: Path, work: Path, jobs: int = 2, toolchain: Path | N
     # background while pytest runs; a PIL test then waits here for it, and builds nothing more).
     with open(work / f"core{suffix}.lock", "w") as lock:
         fcntl.flock(lock, fcntl.LOCK_EX)
-        return _install_rt_core(cmake, source, core, prefix, jobs, toolchain)
+        return _install_rt_core(cmake, source, core, prefix, jobs, toolchain,
+                                third_party_cache(source, work))
 
 
 def _install_rt_core(cmake: str, source: Path, core: Path, prefix: Path, jobs: int,
-                     toolchain: Path | None) -> Path:
+                     toolchain: Path | None, downloads: Path) -> Path:
     cache = core / "CMakeCache.txt"
-    options = list(CORE_OPTIONS)
+    if cache.is_file() and _configured_source(cache) != source.resolve():
+        shutil.rmtree(core)  # configured from other sources (another checkout, the kit's copy)
+    options = list(CORE_OPTIONS) + [f"-DKILOLOOP_THIRD_PARTY_CACHE={downloads}"]
+    kit = kit_prefix()
+    if kit is not None and (kit / "include" / "eigen3" / "Eigen" / "Core").is_file():
+        # Where no Eigen3 package is installed, the kit's copy of its headers.
+        options.append(f"-DKILOLOOP_EIGEN_INCLUDE_DIR={kit / 'include' / 'eigen3'}")
     targets = ["kiloloop_core", "kiloloop_urdf"]
     if toolchain is not None:
         options = [o for o in options if not o.startswith("-DKILOLOOP_BUILD_URDF")]
@@ -105,12 +155,29 @@ def _install_rt_core(cmake: str, source: Path, core: Path, prefix: Path, jobs: i
     return prefix
 
 
+def _cache_value(cache: Path, key: str) -> str | None:
+    """A CMake cache entry's value (`KEY:TYPE=value`), None where it has none."""
+    for line in cache.read_text().splitlines():
+        if line.startswith(key + ":"):
+            return line.split("=", 1)[1]
+    return None
+
+
+def _configured_source(cache: Path) -> Path | None:
+    value = _cache_value(cache, "CMAKE_HOME_DIRECTORY")
+    return Path(value).resolve() if value else None
+
+
 def build_firmware(source: Path, prefix: Path, export_dir: Path, build_dir: Path,
                    toolchain: Path | None = None) -> Path:
     """Builds examples/firmware against `prefix` for the header in `export_dir`; the executable.
     toolchain: a CMake toolchain file, for a cross target."""
     cmake = _tool("cmake")
-    if not (build_dir / "CMakeCache.txt").is_file():
+    cache = build_dir / "CMakeCache.txt"
+    if cache.is_file() and (_configured_source(cache) != (source / "examples" / "firmware").resolve()
+                            or _cache_value(cache, "CMAKE_PREFIX_PATH") != str(prefix)):
+        shutil.rmtree(build_dir)  # configured for other sources or another core install
+    if not cache.is_file():
         cross = [f"-DCMAKE_TOOLCHAIN_FILE={toolchain}"] if toolchain is not None else []
         _run([cmake, "-S", source / "examples" / "firmware", "-B", build_dir, *_generator(),
               "-DCMAKE_BUILD_TYPE=Release", f"-DCMAKE_PREFIX_PATH={prefix}",

@@ -128,7 +128,7 @@ def build_plugin(source: Path, work: Path) -> Path:
         fcntl.flock(lock, fcntl.LOCK_EX)
         if not (out / "CMakeCache.txt").is_file():
             build._run([cmake, "-S", source / "cpp" / "pil", "-B", out, *build._generator(),
-                        f"-DKILOLOOP_THIRD_PARTY_CACHE={source / 'build' / 'third_party'}"])
+                        f"-DKILOLOOP_THIRD_PARTY_CACHE={build.third_party_cache(source, work)}"])
         build._run([cmake, "--build", out])
     return out / "libkiloloop_insn_counter.so"
 
@@ -138,7 +138,7 @@ def prebuild(targets=None, work=None, jobs: int = 2) -> list[str]:
     default) and the QEMU plugin, ahead of the PIL runs: `make test` runs it in the background
     beside pytest (scripts/run_tests.sh), whose PIL tests come last. The names built."""
     source = build.source_root()
-    work = Path(work) if work else source / "build" / "firmware"
+    work = Path(work) if work else build.default_work()
     built = []
     for name in targets or TARGETS:
         t = TARGETS[name]
@@ -185,7 +185,7 @@ def run_pil(robot_arg, *, target: str, duration: float | None = None, seed: int 
     for program in t.programs:
         _need(program, t)
     source = build.source_root()
-    work = Path(work) if work else source / "build" / "firmware"
+    work = Path(work) if work else build.default_work()
     r = record_and_export(robot_arg, duration=duration, seed=seed, sets=sets, work=work,
                           echo=echo, scenario=scenario, what_for=f"pil ({t.name})",
                           subdir=f"pil-{t.name}")
