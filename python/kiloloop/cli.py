@@ -13,6 +13,7 @@ import json
 import sys
 import traceback
 import warnings
+from pathlib import Path
 
 from .errors import InputError, UnreadKeyWarning
 
@@ -46,9 +47,20 @@ def cmd_list(_args) -> int:
     return 0
 
 
+LOG_SUFFIXES = (".npz", ".mcap")
+
+
+def _check_log_path(path) -> None:
+    """--log FILE: a .npz or an .mcap (SignalLog.save picks the format by it), checked before
+    the run rather than after it."""
+    if path and Path(path).suffix.lower() not in LOG_SUFFIXES:
+        raise InputError(f"--log {path}: expected a .npz or .mcap file")
+
+
 def cmd_run(args) -> int:
     from . import scenarios
 
+    _check_log_path(args.log)
     module = scenarios.get(args.scenario)   # a built-in scenario, or a scenario file as one
     robot, settings = scenarios.prepare(module, args.robot, args.set)
     duration = scenarios.check_duration(args.duration, module, settings, robot)
@@ -71,6 +83,9 @@ def cmd_run(args) -> int:
 def _report(args, module, result, settings) -> None:
     """What `kiloloop run` writes after a run: --log, --plot, then --json or the summary."""
     if args.log:
+        from .scenarios.run_info import refresh
+
+        refresh(result)   # the criteria as printed (--baseline's row included)
         result.log.save(args.log)
     if args.plot:
         from .scenarios.plots import plot_result
@@ -98,9 +113,10 @@ def cmd_sweep(args) -> int:
     grid = sweep.parse_grid(args.grid)
     if not grid:
         raise InputError("give at least one --grid KEY=V1,V2,...")
+    _check_log_path(args.log)
     results = sweep.run_sweep(args.scenario, grid, workers=args.workers, seed=args.seed,
                               duration=args.duration, robot=args.robot, sets=args.set,
-                              backend=args.backend)
+                              backend=args.backend, log=args.log)
     metric = args.metric or sweep.default_metric(results)
     out = args.out or f"sweep-{args.scenario}"
     csv_path = sweep.write_csv(results, f"{out}.csv")
@@ -115,8 +131,18 @@ def cmd_sweep(args) -> int:
         why = f"  diverged: {r['reason']}" if r["reason"] else ""
         print(f"  {mark} {params:<40} {metric}={_format_value(value)}{why}")
     print(f"  csv: {csv_path}")
+    if args.log:
+        print(f"  logs: {sweep.log_path(args.log, 0, len(results))} .. (one per run, the csv's "
+              f"log column)")
     if png_path:
         print(f"  heat map: {png_path}")
+    return 0
+
+
+def cmd_log_show(args) -> int:
+    from .sil.log_show import show
+
+    print(show(args.file))
     return 0
 
 
@@ -309,7 +335,8 @@ def _build_parser() -> argparse.ArgumentParser:
                           "(controller.kp=400) (repeatable)")
     run.add_argument("--json", action="store_true", help="print one JSON object")
     run.add_argument("--plot", metavar="PNG", help="write a plot")
-    run.add_argument("--log", metavar="NPZ", help="write the signal log")
+    run.add_argument("--log", metavar="FILE", help="write the signal log: FILE.npz (numpy) or "
+                     "FILE.mcap (MCAP: Foxglove, PlotJuggler, ROS 2 tools)")
     run.add_argument("--video", metavar="MP4", help="render the run (MuJoCo offscreen, 30 fps)")
     run.add_argument("--save-baseline", metavar="NPZ",
                      help="write the run's signals as a baseline for later runs")
@@ -334,6 +361,9 @@ def _build_parser() -> argparse.ArgumentParser:
     sweep.add_argument("--backend", choices=("local", "ray"), default="local",
                        help="local: threads for native scenarios, processes otherwise; "
                             "ray: a Ray cluster (RAY_ADDRESS) or a local Ray instance")
+    sweep.add_argument("--log", default=None, metavar="FILE",
+                       help="write each run's signal log, FILE-<i>.npz or .mcap as FILE's suffix "
+                            "says (i: the csv's row)")
     sweep.set_defaults(func=cmd_sweep)
     bench = sub.add_parser("bench", help="timing and allocation benchmarks")
     bench.add_argument("--quick", action="store_true", help="fewer calls, for a smoke test")
@@ -341,6 +371,11 @@ def _build_parser() -> argparse.ArgumentParser:
     bench.add_argument("--robot", default=None, metavar="NAME|FILE",
                        help="also time the SIL loop and steps of this robot")
     bench.set_defaults(func=cmd_bench)
+    log = sub.add_parser("log", help="signal logs (.npz, .mcap): show one")
+    log_sub = log.add_subparsers(dest="log_command", required=True)
+    show = log_sub.add_parser("show", help="signals (unit, frame, samples), duration, criteria")
+    show.add_argument("file", metavar="FILE", help="a log written by --log (.npz or .mcap)")
+    show.set_defaults(func=cmd_log_show)
     signals = sub.add_parser("signals", help="the signals a scenario file's criteria, "
                                              "baselines and plots read, for one robot")
     signals.add_argument("robot", metavar="NAME|FILE")

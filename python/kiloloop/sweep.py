@@ -12,7 +12,9 @@ Every combination of the --grid values runs through the scenario's own `run` (th
 as `kiloloop run`); each run reports pass/fail, its metrics and, when it diverged (attitude beyond
 60 deg, NaN, solver failure, an exception), the reason. A failed or crashed run never stops the
 sweep. Writes a CSV table (one row per run) and a PNG heat map of one metric over the first two
-grid keys (averaged over any further keys).
+grid keys (averaged over any further keys); with `--log runs.mcap` (or .npz) every run's signal
+log too, runs-<i>.mcap for row i (its grid point in the log's settings and run.params), written
+by the worker that ran it (with Ray: a path the workers can reach).
 """
 from __future__ import annotations
 
@@ -61,13 +63,19 @@ def _progress(done: int, total: int, failed: int, stream) -> None:
 BACKENDS = ("local", "ray")
 
 
+def log_path(template, i: int, total: int) -> str:
+    """Run i's log: `runs.mcap` -> `runs-007.mcap` (zero-padded to the number of runs)."""
+    path = Path(template)
+    return str(path.with_name(f"{path.stem}-{i:0{len(str(max(total - 1, 0)))}d}{path.suffix}"))
+
+
 def run_sweep(scenario: str, grid: dict[str, list[str]], workers: int | None = None,
               seed: int = 0, duration: float | None = None, stream=None, robot=None,
-              sets=None, backend: str = "local") -> list[dict]:
+              sets=None, backend: str = "local", log=None) -> list[dict]:
     """All combinations on `workers` threads or processes (default: the machine's cores), or on
     Ray; results in grid order. A worker that dies takes only its own run with it. Grid keys are
     scenario settings or dotted robot-file keys (controller.kp); robot and sets as in
-    `kiloloop run`."""
+    `kiloloop run`; log: a .npz or .mcap path, each run's log written to log_path(log, i)."""
     from .errors import InputError
 
     if backend not in BACKENDS:
@@ -86,8 +94,9 @@ def run_sweep(scenario: str, grid: dict[str, list[str]], workers: int | None = N
         scenarios.check_settings(module, settings, scenarios.check_robot_sizes(point_robot))
         scenarios.check_duration(duration, module, settings, point_robot)
     workers = max(1, int(workers or os.cpu_count() or 1))
+    logs = [log_path(log, i, len(combos)) if log else None for i in range(len(combos))]
     if backend == "ray":
-        return _run_ray(scenario, combos, workers, seed, duration, robot, sets, stream)
+        return _run_ray(scenario, combos, workers, seed, duration, robot, sets, stream, logs)
     counter = {"done": 0, "failed": 0}
     _progress(0, len(combos), 0, stream)
 
@@ -96,12 +105,13 @@ def run_sweep(scenario: str, grid: dict[str, list[str]], workers: int | None = N
         counter["failed"] += not result["passed"]
         _progress(counter["done"], len(combos), counter["failed"], stream)
 
-    runs = [{"params": p, "seed": seed, "duration": duration, "robot": robot, "sets": sets}
-            for p in combos]
+    runs = [{"params": p, "seed": seed, "duration": duration, "robot": robot, "sets": sets,
+             "log": path} for p, path in zip(combos, logs)]
     return run_scenarios(scenario, runs, threads=workers, on_done=on_done)
 
 
-def _run_ray(scenario, combos, workers, seed, duration, robot, sets, stream) -> list[dict]:
+def _run_ray(scenario, combos, workers, seed, duration, robot, sets, stream,
+             logs) -> list[dict]:
     """Every run as one Ray task (run_one, 1 CPU, no retries: a run is deterministic, so a retry
     would fail the same way). Uses the Ray instance already initialized, else RAY_ADDRESS, else a
     local one with `workers` CPUs, shut down afterwards. A task whose worker dies becomes a
@@ -118,7 +128,7 @@ def _run_ray(scenario, combos, workers, seed, duration, robot, sets, stream) -> 
         started = True
     try:
         task = ray.remote(num_cpus=1, max_retries=0)(run_one)
-        refs = {task.remote(scenario, p, seed, duration, robot, sets): i
+        refs = {task.remote(scenario, p, seed, duration, robot, sets, logs[i]): i
                 for i, p in enumerate(combos)}
         results: list[dict | None] = [None] * len(combos)
         failed = 0
@@ -147,12 +157,14 @@ def write_csv(results: list[dict], path) -> Path:
     path.parent.mkdir(parents=True, exist_ok=True)
     keys = list(results[0]["params"]) if results else []
     metrics = sorted({m for r in results for m in r["metrics"]})
+    logs = ["log"] if any(r.get("log") for r in results) else []   # a column with --log only
     with open(path, "w", newline="") as f:
         w = csv.writer(f)
-        w.writerow(keys + ["passed", "reason", "wall_s"] + metrics)
+        w.writerow(keys + ["passed", "reason", "wall_s"] + logs + metrics)
         for r in results:
             w.writerow([r["params"][k] for k in keys] + [int(r["passed"]), r["reason"],
                                                           f"{r['wall_s']:.3f}"] +
+                       [r.get("log") or "" for _ in logs] +
                        [repr(r["metrics"].get(m, float("nan"))) for m in metrics])
     return path
 

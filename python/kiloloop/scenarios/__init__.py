@@ -317,10 +317,12 @@ def run_named(name: str, robot=None, overrides: list[str] | dict | None = None, 
 
 def run(module, settings: dict, robot, seed: int | None = 0, duration=None):
     """module.run with the robot when the scenario reads robot files; the log comes back
-    described (units, component names: scenarios/signals.py). seed None: the scenario's own
-    (a scenario file's `seed`, else 0)."""
+    described (units, component names, frames: scenarios/signals.py) and saying what run made
+    it (log.info: scenario, robot, settings, criteria; run_info.py). seed None: the scenario's
+    own (a scenario file's `seed`, else 0)."""
     import inspect
 
+    from .run_info import attach
     from .signals import describe
 
     seed = getattr(module, "SEED", 0) if seed is None else seed
@@ -331,6 +333,7 @@ def run(module, settings: dict, robot, seed: int | None = 0, duration=None):
         result = module.run(settings, seed=seed, duration=duration)
     if result.log is not None and result.scenario_file is None:   # a file's run describes its own
         describe(result.log, kind_of(module), robot)
+    attach(result, module, robot, seed, duration)
     return result
 
 

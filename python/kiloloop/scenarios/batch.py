@@ -28,10 +28,11 @@ def _divergence(result) -> str:
 
 
 def run_one(scenario: str, params: dict, seed: int, duration: float | None, robot=None,
-            sets=None) -> dict:
+            sets=None, log: str | None = None) -> dict:
     """One scenario run (in a worker thread, process or Ray task); never raises (an exception
     becomes the failure reason). params (the grid point) and sets (fixed --set items) may name
-    scenario settings or dotted robot-file keys."""
+    scenario settings or dotted robot-file keys. log: a .npz or .mcap path the run's signal log
+    is written to (its info's run.params: the grid point); the result's "log" names it."""
     start = time.perf_counter()
     try:
         module = scenarios.get(scenario)
@@ -40,8 +41,12 @@ def run_one(scenario: str, params: dict, seed: int, duration: float | None, robo
         robot_obj, settings = scenarios.prepare(module, robot, overrides, warn=False)
         result = scenarios.run(module, settings, robot_obj, seed=seed, duration=duration)
         metrics = {k: float(v) for k, v in result.metrics.items()}
-        return {"params": params, "passed": bool(result.passed), "metrics": metrics,
-                "reason": _divergence(result), "wall_s": time.perf_counter() - start}
+        out = {"params": params, "passed": bool(result.passed), "metrics": metrics,
+               "reason": _divergence(result), "wall_s": time.perf_counter() - start}
+        if log and result.log is not None:
+            result.log.info.setdefault("run", {})["params"] = dict(params)
+            out["log"] = str(result.log.save(log))
+        return out
     except Exception as e:  # noqa: BLE001 - a sweep records every failure and goes on
         return {"params": params, "passed": False, "metrics": {},
                 "reason": f"error: {type(e).__name__}: {e}", "wall_s": time.perf_counter() - start}
@@ -56,13 +61,14 @@ def overrides_of(sets, params: dict) -> dict:
 def run_scenarios(scenario: str, runs: list[dict], threads: int | None = None,
                   on_done=None) -> list[dict]:
     """Each run is {"params": {...}, "seed": int, "duration": float | None, "robot": ...,
-    "sets": [...]}, as `kiloloop sweep` builds them; results in the given order, each the dict of
-    run_one (a failure is captured in it, never raised). on_done(i, result) after each."""
+    "sets": [...], "log": path or None}, as `kiloloop sweep` builds them; results in the given
+    order, each the dict of run_one (a failure is captured in it, never raised). on_done(i,
+    result) after each."""
     threads = max(1, int(threads or os.cpu_count() or 1))
     results: list[dict | None] = [None] * len(runs)
     with ThreadPoolExecutor(max_workers=threads) as pool:
         futures = {pool.submit(run_one, scenario, r.get("params", {}), r.get("seed", 0),
-                               r.get("duration"), r.get("robot"), r.get("sets")): i
+                               r.get("duration"), r.get("robot"), r.get("sets"), r.get("log")): i
                    for i, r in enumerate(runs)}
         for future in as_completed(futures):
             i = futures[future]

@@ -1,7 +1,8 @@
 """What a scenario's log holds: unit, component names and label of each signal, per family.
 
-One table per family (arm, quadruped, aerial) and one function, describe(log, kind, robot), that
-writes the table into a finished log (SignalLog.describe), with the component names taken from
+One table per family (arm, quadruped, aerial), the frames of its spatial signals (FRAMES), and one
+function, describe(log, kind, robot), that writes them into a finished log (SignalLog.describe),
+with the component names taken from
 the robot: its controller's joint names for q, q_ref, tau; the quadruped controller's feet for
 per-foot signals; rotor0.. for per-rotor ones. scenarios.run calls it on every scenario's log, so
 a scenario describes nothing by hand; a signal not in the table stays undescribed (plots then
@@ -101,6 +102,21 @@ AERIAL = {
 
 TABLES = {"arm": ARM, "quadruped": QUADRUPED, "aerial": AERIAL}
 
+# The frame a signal's vectors (or coordinates) are expressed in, where its label says so: "world"
+# (the plant's fixed frame; the controller's estimates are in its idea of it), the trunk's or
+# body's own axes, "heading" (world z, x along the trunk's heading). Written into MCAP logs.
+FRAMES = {
+    "arm": {n: "world" for n in ("ee", "ee_ref", "ee_rot", "pose_ref", "x_ref", "force")},
+    "quadruped": {**{n: "world" for n in ("base_pos", "base_quat", "base_vel", "est_pos",
+                                           "est_vel", "est_quat", "foot_force_cmd", "foot_force",
+                                           "foot_pos")},
+                  "base_omega": "trunk", "v_cmd": "heading"},
+    "aerial": {**{n: "world" for n in ("base_pos", "pos_ref", "com", "base_quat", "quat_des",
+                                        "base_vel", "ee_pos", "ee_ref", "ee_rot", "wind",
+                                        "wind_force", "push_force")},
+               "base_omega": "body"},
+}
+
 # A scenario that runs twice logs the second run under a suffix (aerial-arm-sweep: feed-forward
 # off); such a signal is described as its stem, the label saying which run it is.
 VARIANTS = {"_no_ff": "feed-forward off"}
@@ -150,4 +166,5 @@ def describe(log, kind: str, robot=None) -> None:
         shape = log[name].shape
         if components is not None and (len(shape) < 2 or shape[1] != len(components)):
             components = None
-        log.describe(name, unit, components, f"{label} ({variant})" if variant else label)
+        log.describe(name, unit, components, f"{label} ({variant})" if variant else label,
+                     FRAMES.get(kind, {}).get(stem))

@@ -1,5 +1,5 @@
-"""Baselines: a run's signals saved once (`--save-baseline base.npz`) and later runs compared
-with them, signal by signal, as Simulink Test's baseline criteria do.
+"""Baselines: a run's signals saved once (`--save-baseline base.npz`, or any `--log` .npz or
+.mcap) and later runs compared with them, signal by signal, as Simulink Test's baseline criteria do.
 
     [baseline]
     file = "base.npz"                         # relative to the scenario file
@@ -95,8 +95,9 @@ def compare(log, path, spec_signals: dict, components: dict | None = None) -> di
     path = Path(path)
     if not path.is_file():
         raise ValueError(f"baseline file {path} not found (write it with --save-baseline)")
-    with np.load(path) as data:
-        base = {k: data[k] for k in data.files}
+    from ...sil.log import load_log
+
+    base = load_log(path)   # a --save-baseline file, or any --log (.npz or .mcap)
     names = list(spec_signals) or [n for n in base if n != "t"]
     row = {"op": "within", "threshold": 0.0, "value": 0.0, "passed": True, "file": str(path)}
     t = np.asarray(log["t"])

@@ -119,7 +119,8 @@ def describe(log, family: str, robot, components: dict) -> None:
             names = components.get(name)
             shape = log[name].shape
             fits = names is not None and len(shape) == 2 and shape[1] == len(names)
-            log.describe(name, signal.unit, names if fits else None, signal.description)
+            log.describe(name, signal.unit, names if fits else None, signal.description,
+                         signal.frame)
 
 
 def _signals_read(scenario: ScenarioFile) -> set:

@@ -45,6 +45,7 @@ class ScenarioFile:
     criteria: list = field(default_factory=list)
     baseline: baseline_mod.BaselineSpec | None = None
     description: str = ""
+    source: dict | None = None  # the TOML table as read (what a log records of a dict-built file)
 
     @property
     def where(self) -> str:
@@ -157,7 +158,7 @@ def from_dict(data: dict, path: Path | None = None, name: str | None = None) -> 
         fail("description", "expected a string")
     return ScenarioFile(path, name_value, family, robot, float(duration), seed,
                         flatten_settings(settings), reference, events, criteria, spec,
-                        description)
+                        description, data)
 
 
 def raise_at(where, message: str, table: str):

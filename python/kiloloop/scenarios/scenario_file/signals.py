@@ -15,6 +15,7 @@ class Signal:
     unit: str
     description: str
     vector: bool = False   # one column per component (joints, axes, rotors)
+    frame: str | None = None  # the frame it is expressed in ("world", "heading"), where one is
 
 
 ARM = {
@@ -22,8 +23,8 @@ ARM = {
     "q_ref": Signal("rad", "joint position reference", True),
     "qd": Signal("rad/s", "joint velocities (simulator)", True),
     "joint_error": Signal("rad", "largest |q_ref - q| over the joints"),
-    "ee": Signal("m", "tool position in the world (simulator)", True),
-    "ee_ref": Signal("m", "tool position reference in the world", True),
+    "ee": Signal("m", "tool position in the world (simulator)", True, "world"),
+    "ee_ref": Signal("m", "tool position reference in the world", True, "world"),
     "ee_error": Signal("m", "distance from the tool to its reference"),
     "tau": Signal("N m", "joint torque commands", True),
     "status": Signal("-", "the controller's Status code (negative: failure)"),
@@ -33,12 +34,12 @@ QUADRUPED = {
     "roll": Signal("deg", "trunk roll (simulator)"),
     "pitch": Signal("deg", "trunk pitch (simulator)"),
     "yaw": Signal("deg", "trunk yaw, unwrapped (simulator)"),
-    "height": Signal("m", "trunk origin above the world's z = 0 (simulator)"),
-    "vx": Signal("m/s", "forward trunk velocity, heading frame (simulator)"),
-    "vy": Signal("m/s", "leftward trunk velocity, heading frame (simulator)"),
+    "height": Signal("m", "trunk origin above the world's z = 0 (simulator)", frame="world"),
+    "vx": Signal("m/s", "forward trunk velocity, heading frame (simulator)", frame="heading"),
+    "vy": Signal("m/s", "leftward trunk velocity, heading frame (simulator)", frame="heading"),
     "yaw_rate": Signal("rad/s", "trunk yaw rate (simulator)"),
-    "vx_ref": Signal("m/s", "commanded forward velocity"),
-    "vy_ref": Signal("m/s", "commanded leftward velocity"),
+    "vx_ref": Signal("m/s", "commanded forward velocity", frame="heading"),
+    "vy_ref": Signal("m/s", "commanded leftward velocity", frame="heading"),
     "yaw_rate_ref": Signal("rad/s", "commanded yaw rate"),
     "velocity_error": Signal("m/s", "|(vx, vy) - (vx_ref, vy_ref)|"),
     "fell": Signal("0/1", "1 from the tick the trunk fell (below half its standing height or "
@@ -47,8 +48,8 @@ QUADRUPED = {
     "status": Signal("-", "the controller's Status code (negative: failure)"),
 }
 AERIAL = {
-    "position": Signal("m", "body position in the world (simulator)", True),
-    "position_ref": Signal("m", "body position reference", True),
+    "position": Signal("m", "body position in the world (simulator)", True, "world"),
+    "position_ref": Signal("m", "body position reference", True, "world"),
     "position_error": Signal("m", "|position_ref - position|"),
     "attitude_error": Signal("deg", "rotation from the commanded attitude to the body's"),
     "tilt": Signal("deg", "angle of the body's z axis from vertical (simulator)"),
