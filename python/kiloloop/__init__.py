@@ -3,6 +3,9 @@
 The compiled core lives in `kiloloop._core`; its classes are re-exported here so that
 `import kiloloop as kl; kl.RobotModel.from_urdf(...)` works. The SIL plant, loop, scenarios and
 CLI are pure Python around that core.
+
+When gymnasium is installed, importing the package registers its environments
+(`gymnasium.make("kiloloop/QuadrupedTrot-v0")`, kiloloop/envs/): registration only.
 """
 import os as _os
 from importlib.resources import files as _files
@@ -39,3 +42,27 @@ def __getattr__(name: str):
 
         return importlib.import_module(".sil", __name__)
     raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+
+
+def _register_envs() -> None:
+    """The gymnasium environments (kiloloop/envs/) into gymnasium's registry when gymnasium is
+    installed, as ale_py and gymnasium_robotics do on import: `gymnasium.make("kiloloop/...")`
+    then works after the usual `import kiloloop`. Registration only: the entry points are
+    strings, MuJoCo and the environments' modules load when one is made. Without gymnasium
+    nothing is imported (find_spec looks for it without importing it). gymnasium 1.x has no
+    plugin discovery (the `gymnasium.envs` entry-point group was removed in 1.0.0), so a package
+    registers on its own import."""
+    from importlib.util import find_spec
+
+    if find_spec("gymnasium") is None:
+        return
+    try:
+        from . import envs  # noqa: F401  (registers on import)
+    except ImportError as e:  # installed but broken: kiloloop itself still imports
+        import warnings
+
+        warnings.warn(f"kiloloop: gymnasium is installed but does not import ({e}); the "
+                      "kiloloop/ environments are not registered", RuntimeWarning, stacklevel=2)
+
+
+_register_envs()
