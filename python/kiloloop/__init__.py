@@ -4,10 +4,13 @@ The compiled core lives in `kiloloop._core`; its classes are re-exported here so
 `import kiloloop as kl; kl.RobotModel.from_urdf(...)` works. The SIL plant, loop, scenarios and
 CLI are pure Python around that core.
 
+Typed: the package ships `py.typed` and `.pyi` stubs of `_core` generated from the built module
+at build time (cmake/stubs.cmake), so an IDE and mypy see every class, field and signature.
 When gymnasium is installed, importing the package registers its environments
 (`gymnasium.make("kiloloop/QuadrupedTrot-v0")`, kiloloop/envs/): registration only.
 """
 import os as _os
+import typing as _typing
 from importlib.resources import files as _files
 from pathlib import Path as _Path
 
@@ -16,11 +19,15 @@ from pathlib import Path as _Path
 if not (_os.environ.get("DISPLAY") or _os.environ.get("WAYLAND_DISPLAY")):
     _os.environ.setdefault("MUJOCO_GL", "osmesa")
 
+# `import X as X`: an explicit re-export, as type checkers want it (mypy --strict).
 from ._core import *  # noqa: F401,F403
-from ._core import __version__  # noqa: F401
-from ._core import qp  # noqa: F401  (kl.qp.solve, kl.qp.DenseQpSolver)
-from ._core import detmath  # noqa: F401  (musl's sin, cos, ... as the core calls them)
-from .robot import Robot, RobotFileError  # noqa: F401  (robot files: docs/robots.md)
+from ._core import __version__ as __version__
+from ._core import qp as qp  # kl.qp.solve, kl.qp.DenseQpSolver
+from ._core import detmath as detmath  # musl's sin, cos, ... as the core calls them
+from .robot import Robot as Robot, RobotFileError as RobotFileError  # robot files: docs/robots.md
+
+if _typing.TYPE_CHECKING:  # kl.sil is imported on first use (__getattr__ below)
+    from . import sil as sil
 
 
 def models_dir() -> _Path:
@@ -35,7 +42,7 @@ def model_files(robot) -> tuple[_Path, dict]:
     return r.urdf, r.sim
 
 
-def __getattr__(name: str):
+def __getattr__(name: str) -> _typing.Any:
     # kl.sil (batch runs, the native loop) on first use: `import kiloloop` stays light.
     if name == "sil":
         import importlib
