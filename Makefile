@@ -152,7 +152,7 @@ PIP_LOG := build/pip-install.log
 build: system-deps $(BIN)/python
 	@echo "==> kiloloop: Python build tools into $(VENV)"
 	@$(BIN)/python -m pip install -q --upgrade pip
-	@$(BIN)/python -m pip install -q "scikit-build-core>=0.10" "pybind11>=2.12" cmake ninja "mujoco>=3.2"
+	@$(BIN)/python -m pip install -q "scikit-build-core>=0.10" "pybind11>=2.12" cmake ninja "mujoco>=3.2" "pybind11-stubgen>=3.0"
 	@echo "==> kiloloop: building the C++ core and the Python module into $(BUILD_DIR)"
 	@echo "    (incremental; the first build takes about 5.5 minutes on 2 cores), then installing"
 	@echo "    the Python dependencies (mujoco, numpy, pinocchio and example-robot-data for tests...)"
