@@ -6,8 +6,9 @@
 namespace kiloloop::py_glue {
 
 void bind_arm(py::module_& m) {
-  py::class_<CartesianLine>(m, "CartesianLine", "Straight line + slerp, quintic time scaling (ctraj)")
-      .def(py::init([](const Eigen::Matrix4d& start, const Eigen::Matrix4d& end, double t0, double duration) {
+  py::class_<CartesianLine> cartesian_line(m, "CartesianLine",
+                                           "Straight line + slerp, quintic time scaling (ctraj)");
+  cartesian_line.def(py::init([](const Eigen::Matrix4d& start, const Eigen::Matrix4d& end, double t0, double duration) {
              Eigen::Isometry3d a, b;
              a.matrix() = start;
              b.matrix() = end;
@@ -28,16 +29,7 @@ void bind_arm(py::module_& m) {
              line.sample(t, T, v, a);
              return py::make_tuple(Eigen::Matrix4d(T.matrix()), v, a);
            },
-           py::arg("t"), "(pose (4, 4), twist (6), twist derivative (6)) at t [s]")
-      .def("sample_into",
-           [](const CartesianLine& line, double t, CartesianTrackingInput& in) {
-             Eigen::Isometry3d T;
-             Vector6d a;
-             const Status s = line.sample(t, T, in.twist_ref, a);
-             in.pose_ref = T.matrix();
-             return s;
-           },
-           py::arg("t"), py::arg("input"), "Writes pose_ref and twist_ref of a CartesianTrackingInput");
+           py::arg("t"), "(pose (4, 4), twist (6), twist derivative (6)) at t [s]");
 
   py::class_<CartesianTrackingConfig>(m, "CartesianTrackingConfig")
       .def(py::init<>())
@@ -55,6 +47,17 @@ void bind_arm(py::module_& m) {
       .def_readwrite("twist_ref", &CartesianTrackingInput::twist_ref, "(6) [m/s; rad/s]");
   vector_field(in, "q", &CartesianTrackingInput::q, "(nq) [rad]");
   vector_field(in, "qd", &CartesianTrackingInput::qd, "(nq) [rad/s]");
+
+  // Bound once CartesianTrackingInput is: a signature names only types already bound (stubs).
+  cartesian_line.def("sample_into",
+           [](const CartesianLine& line, double t, CartesianTrackingInput& in) {
+             Eigen::Isometry3d T;
+             Vector6d a;
+             const Status s = line.sample(t, T, in.twist_ref, a);
+             in.pose_ref = T.matrix();
+             return s;
+           },
+           py::arg("t"), py::arg("input"), "Writes pose_ref and twist_ref of a CartesianTrackingInput");
 
   py::class_<CartesianTrackingOutput> out(m, "CartesianTrackingOutput");
   out.def(py::init<>())

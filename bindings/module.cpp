@@ -4,6 +4,7 @@
 namespace kiloloop::py_glue {
 void bind_firmware(py::module_& m);  // bind_firmware.cpp
 void bind_detmath(py::module_& m);   // bind_detmath.cpp
+void bind_field_docs(py::module_& m);  // field_docs.cpp: after every class is bound
 }  // namespace kiloloop::py_glue
 
 PYBIND11_MODULE(_core, m) {
@@ -27,4 +28,5 @@ PYBIND11_MODULE(_core, m) {
   bind_native(m);
   bind_firmware(m);
   bind_detmath(m);
+  bind_field_docs(m);
 }

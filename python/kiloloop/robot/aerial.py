@@ -21,10 +21,14 @@ the URDF's masses:
 from __future__ import annotations
 
 import math
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from .errors import RobotFileError
+
+if TYPE_CHECKING:  # annotations only: kiloloop._core is imported where it is used
+    from .._core import AerialConfig, RobotModel
 
 # Rotor table keys: None = required.
 ROTOR_KEYS = {"position": None, "axis": [0.0, 0.0, 1.0], "spin": None, "thrust_max": None,
@@ -135,7 +139,7 @@ def bandwidths(robot) -> dict:
     return {"attitude": att, "position": pos, "arm": arm}
 
 
-def model(robot):
+def model(robot: Any) -> RobotModel:  # robot: a robot_file.Robot (it imports this module)
     """The controller's model: the arm's chain base -> ee, or the whole tree (no arm)."""
     import kiloloop as kl
 
@@ -166,7 +170,7 @@ def rotor_config(robot, lag_compensation: bool = False):
     return c
 
 
-def config(robot, config=None):
+def config(robot: Any, config: AerialConfig | None = None) -> AerialConfig:
     """kl.AerialConfig with the rotors and the derived gains (explicit [controller] keys win)."""
     import kiloloop as kl
 

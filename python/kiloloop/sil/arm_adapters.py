@@ -18,7 +18,7 @@ class JointTracking:
     """A joint controller (computed torque, PD + gravity) on a joint trajectory (quintic or
     trapezoid). Logs q, qd, q_ref, tau, status."""
 
-    def __init__(self, controller, trajectory):
+    def __init__(self, controller: object, trajectory: object) -> None:
         self.controller, self.trajectory = controller, trajectory
 
     def native_adapter(self):

@@ -50,9 +50,9 @@ enum class ArmMode : int { kJoints = 0, kEndEffector = 1 };
 struct AerialConfig {
   double dt = 0.001;                                        // [s] control period
   Eigen::Vector3d gravity = Eigen::Vector3d(0.0, 0.0, -9.81);  // [m/s^2] world
-  PositionControlConfig position;
-  AttitudeControlConfig attitude;
-  RotorAllocationConfig rotors;
+  PositionControlConfig position;  // outer loop: position error -> thrust and attitude target
+  AttitudeControlConfig attitude;  // inner loop: attitude error -> body torque
+  RotorAllocationConfig rotors;    // rotor geometry and limits: body wrench -> rotor thrusts
   // Arm computed torque: e'' + kd e' + kp e = 0 per joint (1 value or nq).
   Eigen::VectorXd arm_kp = Eigen::VectorXd::Constant(1, 400.0);  // [1/s^2]
   Eigen::VectorXd arm_kd = Eigen::VectorXd::Constant(1, 40.0);   // [1/s]
@@ -71,7 +71,7 @@ struct AerialConfig {
   double arm_friction_deadband = 0.005;
   double ik_damping = 0.01;  // [m] damped least squares lambda of the end-effector IK
   int ik_iterations = 3;     // per tick (warm-started from the last tick's solution)
-  bool reaction_feedforward = true;
+  bool reaction_feedforward = true;  // cancel the arm's reaction wrench on the body (feed-forward)
   // The position loop holds the vehicle's centre of mass where the reference puts it with the arm
   // at arm_q_nominal, so the body gives way to the arm's internal motion (momentum conservation)
   // instead of tilting against its lateral push. Independent of reaction_feedforward. The shift

@@ -18,8 +18,8 @@ namespace kiloloop {
 enum class AttitudeLawType : int { kQuaternionPd = 0, kGeometricSo3 = 1 };
 
 struct AttitudeControlConfig {
-  AttitudeLawType law = AttitudeLawType::kQuaternionPd;
-  AttitudeGains gains;
+  AttitudeLawType law = AttitudeLawType::kQuaternionPd;  // quaternion PD or geometric SO(3)
+  AttitudeGains gains;  // kp, kd, ki per body axis
   // [rad/s^2] largest angular acceleration the integral may command, per axis (30 rad/s^2 at
   // J = 0.015 kg m^2 is 0.45 N m: a 40 % thrust loss on one rotor of this vehicle).
   Eigen::Vector3d integral_limit{30.0, 30.0, 10.0};

@@ -15,7 +15,7 @@
 namespace kiloloop {
 
 struct CartesianImpedanceConfig {
-  CartesianCommonConfig common;
+  CartesianCommonConfig common;  // what every Cartesian controller has (gravity, limits, nullspace)
   Vector6d stiffness = (Vector6d() << 800.0, 800.0, 800.0, 60.0, 60.0, 60.0).finished();  // [N/m; N m/rad]
   double damping_ratio = 1.0;  // zeta: 1 = critically damped per axis
 };

@@ -16,7 +16,7 @@
 namespace kiloloop {
 
 struct HybridForcePositionConfig {
-  CartesianCommonConfig common;
+  CartesianCommonConfig common;  // what every Cartesian controller has (gravity, limits, nullspace)
   Vector6d selection = (Vector6d() << 1, 1, 0, 1, 1, 1).finished();  // 1 motion, 0 force (task frame)
   Eigen::Matrix3d task_rotation = Eigen::Matrix3d::Identity();      // task frame in the root frame
   Vector6d kp = (Vector6d() << 2500, 2500, 2500, 900, 900, 900).finished();  // [1/s^2]

@@ -42,7 +42,8 @@ inline StanceForceConfig derived_stance_force() {
 // an override. QuadrupedController::config() returns the configuration with all of it resolved.
 // Robot-specific tuning lives in the robot file (models/<robot>/robot.toml, [controller]).
 struct QuadrupedConfig {
-  std::string trunk_link = "trunk";
+  std::string trunk_link = "trunk";  // the URDF link of the trunk (floating base)
+  // The URDF links of the four feet (FL, FR, RL, RR): each leg is the chain trunk -> foot.
   std::array<std::string, 4> feet{"FL_foot", "FR_foot", "RL_foot", "RR_foot"};
   // Knee bend per leg (FL, FR, RL, RR); kAuto: the bend the knee's joint limits allow, and where
   // they allow both, the one whose standing knee angle lies nearer the URDF's zero pose
@@ -65,7 +66,7 @@ struct QuadrupedConfig {
   // leg: 0.41 s; measured on both, 0.45 s rolled the light one 2.6 deg RMS at 0.3 m/s, 0.41 s 0.9).
   GaitConfig gait{0.0, 0.6};
   ContactConfig contact;              // force_on / force_off: set from contact_force_on/off
-  EstimatorConfig estimator;
+  EstimatorConfig estimator;  // the trunk state estimator (IMU + leg kinematics)
   // fz_min / fz_max: set from the weight fractions below. wrench_weight: the forces weigh 1 per
   // N^2; a moment entry 0 is derived as (m h / I_axis)^2 per (N m)^2, h the CoM's height above
   // the ground standing, I the composite inertia: a force error dF and a moment error dM then

@@ -36,7 +36,7 @@ struct StanceForceConfig {
   double mu = 0.8;               // friction coefficient used by the pyramid
   double fz_min = 5.0;           // [N] minimum normal force of a stance foot
   double fz_max = 300.0;         // [N]
-  int max_iterations = 100;
+  int max_iterations = 100;      // active-set changes per solve before it reports not converged
 };
 
 // mu > 0, 0 <= fz_min < fz_max, non-negative weights, max_iterations >= 1; the reason in *why.

@@ -51,7 +51,7 @@ struct ArmSupervisorConfig {
   int max_bad_ticks = 20;                    // consecutive bad measurements that latch a stop
   double stop_kp = 400.0;                    // [1/s^2] computed-torque gains of the stop/hold
   double stop_kd = 40.0;                     // [1/s]
-  SingularityMonitorConfig singularity;
+  SingularityMonitorConfig singularity;      // manipulability thresholds of the slow-down and stop
 };
 
 Status validate(const ArmSupervisorConfig& config, int nq, std::string* why);
