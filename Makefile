@@ -14,6 +14,7 @@ VENV := .venv
 BIN := $(VENV)/bin
 OUT := out
 BUILD_DIR := build/py
+WHEEL_DIR := dist
 # The wheel carries no C++ tests (`make test` builds them under the sanitizers, `make cpp-test`
 # at -O2). OFF explicitly: an older build/py's CMake cache may say ON.
 PIP_BUILD_FLAGS := --no-build-isolation --config-settings=cmake.define.KILOLOOP_BUILD_TESTS=OFF \
@@ -164,20 +165,10 @@ build: system-deps $(BIN)/python
 	       tail -n 25 $(PIP_LOG); df -h . /tmp; exit 1; }
 	@echo "==> kiloloop: built"
 
-# The self-contained wheel: `pip wheel` from build/py (the tree `make build` compiled: only the
-# install and the zip, seconds) into build/wheel-raw, then `auditwheel repair` grafts every
-# shared library outside the manylinux policy (urdfdom_model, console_bridge, tinyxml) into
-# kiloloop.libs/ with patchelf, and names the wheel by the oldest glibc its symbols allow
-# (docs/install.md). Prints the wheel, its size and the time taken.
-WHEEL_DIR := dist
+# The self-contained wheel in dist/ (scripts/make_wheel.sh: pip wheel from build/py, seconds,
+# then auditwheel repair; docs/install.md). Prints the wheel, its size and the time taken.
 wheel: build
-	@start=$$SECONDS; rm -rf build/wheel-raw; mkdir -p $(WHEEL_DIR); \
-	$(BIN)/python -m pip install -q auditwheel patchelf && \
-	$(BIN)/python -m pip wheel -q --no-deps $(PIP_BUILD_FLAGS) -w build/wheel-raw . && \
-	rm -f $(WHEEL_DIR)/kiloloop-*.whl && \
-	PATH=$(abspath $(BIN)):$$PATH $(BIN)/auditwheel repair -w $(WHEEL_DIR) build/wheel-raw/kiloloop-*.whl && \
-	$(BIN)/auditwheel show $(WHEEL_DIR)/kiloloop-*.whl && \
-	echo "==> wheel: $$(ls $(WHEEL_DIR)/kiloloop-*.whl), $$(du -k $(WHEEL_DIR)/kiloloop-*.whl | cut -f1) KiB, $$((SECONDS - start)) s"
+	WHEEL_DIR=$(WHEEL_DIR) scripts/make_wheel.sh
 
 clean:
 	rm -rf build $(OUT) $(WHEEL_DIR)

@@ -7,9 +7,10 @@
 #      when it passes, the whole log when it fails).
 #   2. In the foreground: `make build` (the Python dependencies, the package built in build/py
 #      and installed into .venv, with its firmware kit: the core's archive the module links),
-#      `make wheel` (the self-contained wheel in dist/), then pytest (it builds every robot's
-#      firmware against the kit and replays its log through it, bit for bit; it installs the
-#      wheel into a fresh virtual environment and runs it with the Debian libraries hidden).
+#      the self-contained wheel in dist/ (scripts/make_wheel.sh, what `make wheel` runs), then
+#      pytest (it builds every robot's firmware against the kit and replays its log through it,
+#      bit for bit; it installs the wheel into a fresh virtual environment and runs it with the
+#      Debian libraries hidden).
 # Why at once: the sanitizer stage is the longest and needs no wheel; the dependency downloads and
 # pytest (one Python process) leave a core it takes (docs/hardening.md: measured stage times).
 set -uo pipefail
@@ -39,9 +40,9 @@ pil_pid=$!
 trap 'kill "$san_pid" "$pil_pid" 2>/dev/null' INT TERM
 # The self-contained wheel (dist/; from build/py: seconds), which tests/test_wheel.py installs
 # into a fresh virtual environment and runs with the Debian libraries hidden.
-( time make --no-print-directory wheel 2>&3 ) 3>&2 2>build/wheel-stage.time \
-  || { echo "==> make wheel FAILED"; kill "$san_pid" "$pil_pid" 2>/dev/null; wait; exit 1; }
-echo "==> make wheel: $(cat build/wheel-stage.time)"
+( time scripts/make_wheel.sh 2>&3 ) 3>&2 2>build/wheel-stage.time \
+  || { echo "==> the wheel FAILED"; kill "$san_pid" "$pil_pid" 2>/dev/null; wait; exit 1; }
+echo "==> the wheel (scripts/make_wheel.sh): $(cat build/wheel-stage.time)"
 echo "==> Python tests (pytest; the PIL cores build beside it, log build/pil-prebuild.log)"
 ( time .venv/bin/python -m pytest -q --durations=15 2>&3 ) 3>&2 2>build/pytest-stage.time
 py_rc=$?
