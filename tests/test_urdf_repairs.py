@@ -1,7 +1,8 @@
-"""URDF repairs with a name (issue 33, item 4): an inertia MuJoCo refuses is refused naming the
-link, the inequality with its numbers and the fix, or balanced on request (a warning naming the
+"""URDF repairs with a name (issue 33, items 2 and 4): an inertia MuJoCo refuses is refused naming
+the link, the inequality with its numbers and the fix, or balanced on request (a warning naming the
 link and by how much), and the controller's model and the plant then agree; a link fixed to its
-parent moves into it exactly. Small two-link arms written here; nothing is run."""
+parent moves into it exactly; joints without limits draw a `robot check` warning, and
+[limits.<joint>] sets them in both models. Small two-link arms written here; nothing is run."""
 import contextlib
 import io
 
@@ -134,15 +135,62 @@ def test_a_moving_link_without_mass_is_refused_in_the_urdfs_terms(tmp_path):
         MujocoPlant(urdf, overlay={"ee": {"body": "link2"}})
 
 
+CONTINUOUS = dict(joint2="", joint2_type="continuous")
+
+
+def test_missing_limits_are_named_by_robot_check(tmp_path):
+    path = robot_file(tmp_path, arm_urdf(tmp_path, **CONTINUOUS))
+    code, out, _ = robot_check(path)
+    assert code == 0
+    warning = [line for line in out.splitlines() if "warning:" in line]
+    assert len(warning) == 1 and "joint 'joint2'" in warning[0]
+    assert "no effort and no velocity limit (continuous joint without <limit>)" in warning[0]
+    assert "[limits.joint2] effort = ... [N m], velocity = ... [rad/s]" in warning[0]
+    # A <limit> of effort 0 (URDF's "not given") is named too.
+    zero = robot_file(tmp_path, arm_urdf(tmp_path, joint2="<limit lower='-1' upper='1' "
+                                                          "velocity='2' effort='0'/>", name="z.urdf"))
+    assert "joint 'joint2': no effort limit (its <limit> gives effort 0)" in robot_check(zero)[1]
+
+
+def test_limits_from_the_robot_file_reach_the_model_and_the_plant(tmp_path):
+    path = robot_file(tmp_path, arm_urdf(tmp_path, **CONTINUOUS),
+                      "[limits.joint2]\neffort = 20\nvelocity = 4\nlower = -3\nupper = 3\n")
+    robot = kl.Robot.load(path)
+    model, plant = robot.model(), build_plant(robot)
+    assert list(model.effort_limit) == [50, 20] and list(model.velocity_limit) == [3, 4]
+    assert list(model.lower) == [-2, -3] and list(model.upper) == [2, 3]
+    j2 = plant.model.joint("joint2")
+    assert list(j2.range) == [-3, 3] and j2.limited
+    assert list(plant.model.actuator("joint2").ctrlrange) == [-20, 20]
+    code, out, _ = robot_check(path)
+    assert code == 0 and "warning:" not in out
+    assert ("joint 'joint2' (continuous -> revolute): lower -3 rad (URDF: none), upper 3 rad "
+            "(URDF: none), velocity 4 rad/s (URDF: none), effort 20 N m (URDF: none)") in out
+
+
+@pytest.mark.parametrize("table, words", [
+    ("[limits.joint9]\neffort = 1\n", "limits.joint9: the URDF has no revolute"),
+    ("[limits.joint2]\ntorque = 1\n", "limits.joint2.torque: unknown key"),
+    ("[limits.joint2]\neffort = 0\n", "limits.joint2.effort: expected > 0"),
+    ("[limits.joint2]\nlower = 1\nupper = -1\n", "lower 1 is not below upper -1"),
+    ("[limits.joint2]\nlower = 1\n", "give both lower and upper"),
+    ("[limits]\njoint2 = 5\n", "limits.joint2: expected a table"),
+])
+def test_bad_limits_are_refused_at_load_naming_the_key(tmp_path, table, words):
+    path = robot_file(tmp_path, arm_urdf(tmp_path, **CONTINUOUS), table)
+    with pytest.raises(kl.RobotFileError, match=words) as e:
+        kl.Robot.load(path)
+    assert str(path) in str(e.value)
+
+
 def test_the_firmware_export_reads_the_changed_urdf(tmp_path):
-    path = robot_file(tmp_path, arm_urdf(tmp_path, link2=BROKEN), "balance_inertia = true\n")
-    with pytest.warns(UrdfRepairWarning):
-        doc = kl.Robot.load(path).urdf_doc
+    path = robot_file(tmp_path, arm_urdf(tmp_path, **CONTINUOUS), "[limits.joint2]\neffort = 20\n")
+    doc = kl.Robot.load(path).urdf_doc
     with doc.as_file() as urdf:
         exported = kl._core.firmware.description_source(str(urdf))
         assert urdf != doc.path and urdf.read_text() == doc.xml()
     as_written = kl._core.firmware.description_source(str(doc.path))
-    assert exported != as_written  # link2's inertia balanced
+    assert exported != as_written  # joint2's effort limit: 20 N m instead of none
     unchanged = kl.Robot.load(robot_file(tmp_path, arm_urdf(tmp_path, name="ok.urdf"))).urdf_doc
     with unchanged.as_file() as urdf:
         assert urdf == unchanged.path

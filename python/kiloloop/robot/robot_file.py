@@ -16,7 +16,7 @@ from pathlib import Path
 from typing import Callable
 
 from ..errors import InputError
-from . import schema
+from . import joint_limits, schema
 from .aerial import model as aerial_model
 from .errors import RobotFileError
 from .urdf_doc import UrdfDoc, read as read_urdf
@@ -155,6 +155,8 @@ class Robot:
                     raise RobotFileError(f"{where}: missing key '{section}.{k}'")
         if not self.urdf.is_file():
             raise RobotFileError(f"{where}: urdf: file not found: {self.urdf}")
+        if "limits" in d:  # its joints and values, against the URDF (the inertias: urdf_doc)
+            joint_limits.check(self.urdf, d["limits"], self.where)
         for table, check in _TABLE_CHECKS.items():
             if table in d:
                 check(d[table], where)
@@ -199,12 +201,14 @@ class Robot:
 
     @cached_property
     def urdf_doc(self) -> UrdfDoc:
-        """The URDF as the controller's model and the plant read it: balance_inertia applied,
-        every change named (robot/urdf_doc.py). Read on first use (the
+        """The URDF as the controller's model and the plant read it: [limits.<joint>] and
+        balance_inertia applied, every change named (robot/urdf_doc.py). Read on first use (the
         model, a plant), not at load: with_overrides({"balance_inertia": True}) still applies to
         a file whose URDF would be refused without it."""
-        return read_urdf(self.urdf, balance_inertia=bool(self.data.get("balance_inertia", False)),
-                         owner=f"{self.path}" + (" (with --set)" if self.overrides else ""))
+        return read_urdf(self.urdf, limits=self.data.get("limits"),
+                         balance_inertia=bool(self.data.get("balance_inertia", False)),
+                         owner=f"{self.path}" + (" (with --set)" if self.overrides else ""),
+                         where=self.where)
 
     def urdf_text(self) -> str:
         return self.urdf.read_text()

@@ -3,10 +3,12 @@ applied and each change named in one line.
 
 The controller's model (Robot.model: the C++ loader), the firmware export and the MuJoCo plants
 (sil/) all build from the same UrdfDoc, so that they agree:
-link inertias MuJoCo refuses (robot/urdf_inertia.py) are repaired without asking where the
-change is negligible, moved into a fixed parent (exact), balanced where the robot file's
-`balance_inertia = true` asks (each warned about: UrdfRepairWarning), else refused naming the
-link, the inequality and the fix. `kiloloop robot check` lists every change.
+- the robot file's `[limits.<joint>]` (robot/joint_limits.py), then
+- link inertias MuJoCo refuses (robot/urdf_inertia.py): moved into a fixed parent (exact),
+  repaired without asking where the change is negligible, balanced where the robot file's
+  `balance_inertia = true` asks (each warned about: UrdfRepairWarning), else refused naming the
+  link, the inequality and the fix.
+`kiloloop robot check` lists every change and the joints whose limits the URDF leaves infinite.
 A file that is not XML is passed on untouched: the C++ loader refuses it with its reason.
 """
 from __future__ import annotations
@@ -16,11 +18,12 @@ import copy
 import tempfile
 import warnings
 import xml.etree.ElementTree as ET
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
+from typing import Callable
 
 from ..errors import UrdfRepairWarning
-from . import urdf_inertia
+from . import joint_limits, urdf_inertia
 from .errors import RobotFileError
 
 
@@ -29,6 +32,7 @@ class UrdfDoc:
     path: Path                       # the file (meshes resolve against its directory)
     root: ET.Element | None          # parsed and repaired; None: not XML. Copy before changing.
     repairs: tuple[str, ...] = ()    # every change made, one line each
+    missing_limits: dict = field(default_factory=dict)  # joint -> what it lacks (after [limits])
 
     @property
     def changed(self) -> bool:
@@ -55,21 +59,26 @@ class UrdfDoc:
             yield path
 
 
-def read(path, *, balance_inertia: bool = False, owner: str | None = None) -> UrdfDoc:
-    """The URDF at `path` with a robot file's `balance_inertia` applied. owner: what a refused
-    inertia's message starts with (the robot file; default the URDF). Raises RobotFileError."""
+def read(path, *, limits: dict | None = None, balance_inertia: bool = False,
+         owner: str | None = None, where: Callable[[str], str] | None = None) -> UrdfDoc:
+    """The URDF at `path` with a robot file's `[limits]` table and `balance_inertia` applied.
+    owner: what a refused inertia's message starts with (the robot file; default the URDF);
+    where(dotted key): what a refused limit's names (the file or --set, and the key). Raises
+    RobotFileError for either."""
     path = Path(path)
     owner = owner or str(path)
     try:
         root = ET.parse(path).getroot()
     except (ET.ParseError, OSError):
         return UrdfDoc(path=path, root=None)
+    repairs = joint_limits.apply(root, limits or {}, where or (lambda key: f"{owner}: {key}"))
     made, balanced, refused = urdf_inertia.repair(root, balance_inertia)
     if refused:
         raise RobotFileError(f"{owner}: {path.name}: {urdf_inertia.refusal(refused[0])}")
     for line in balanced:
         warnings.warn(f"{path.name}: {line}", UrdfRepairWarning, stacklevel=2)
-    return UrdfDoc(path=path, root=root, repairs=tuple(made))
+    return UrdfDoc(path=path, root=root, repairs=tuple(repairs + made),
+                   missing_limits=joint_limits.missing(root))
 
 
 def tree(doc: UrdfDoc) -> ET.Element:

@@ -7,14 +7,13 @@ from pathlib import Path
 
 import numpy as np
 
+from .joint_limits import ACTUATED
 from .urdf_doc import UrdfDoc, tree
-
-ACTUATED = ("revolute", "continuous", "prismatic")
 
 
 def urdf_joints(urdf: Path | UrdfDoc) -> tuple[list[str], np.ndarray]:
     """Actuated joint names in URDF document order, and their effort limits [N m] (inf if none).
-    `urdf`: a path, or a UrdfDoc (the URDF as the robot's models read it)."""
+    `urdf`: a path, or a UrdfDoc (its limits: a robot file's [limits.<joint>] applied)."""
     names, effort = [], []
     root = tree(urdf) if isinstance(urdf, UrdfDoc) else ET.parse(urdf).getroot()
     # Direct children only: <transmission> elements also contain <joint> tags.

@@ -58,11 +58,12 @@ def summary_lines(robot) -> list[str]:
 
 def urdf_lines(doc, joints) -> list[str]:
     """What kiloloop changed in the URDF (the controller's model and the plant read it so:
-    robot/urdf_doc.py)."""
+    robot/urdf_doc.py) and the controlled joints whose limits it leaves infinite."""
     lines = []
     if doc.repairs:
         lines.append("  URDF changes (the controller's model and the plant alike):")
         lines.extend(f"    {line}" for line in doc.repairs)
+    lines.extend(f"  warning: {doc.missing_limits[j]}" for j in joints if j in doc.missing_limits)
     return lines
 
 
