@@ -44,7 +44,9 @@ def test_composite_inertia_and_com_match_pinocchio(which, request):
     robot = kl.Robot.load("quadruped") if which == "quadruped" else request.getfixturevalue(which)
     c = controller_for(robot)
     q = dict(zip(c.joint_names, np.asarray(c.stand_pose)))
-    com, inertia, mass = pinocchio_com_and_inertia(robot.urdf, q, robot.section("legs")["base"])
+    # The URDF as kiloloop reads it (Go1's 1e-6 kg root link repaired: robot/urdf_doc.py).
+    with robot.urdf_doc.as_file() as urdf:
+        com, inertia, mass = pinocchio_com_and_inertia(urdf, q, robot.section("legs")["base"])
     assert c.mass == pytest.approx(mass, rel=1e-9)
     np.testing.assert_allclose(c.com, com, atol=1e-9)
     np.testing.assert_allclose(c.inertia, inertia, atol=1e-9)
@@ -76,7 +78,7 @@ def test_swapped_feet_are_refused_with_the_reason(tmp_path, go1):
 def test_go1_plant_repairs_the_dummy_root_and_keeps_mass(go1):
     c = controller_for(go1)
     plant = FloatingBasePlant(go1.urdf, plant_overlay(go1, c), package_dirs=go1.package_dirs)
-    assert any("degenerate inertia" in n for n in plant.notes)
+    assert any("link 'base'" in n and "inertia repaired" in n for n in plant.notes)
     assert float(np.sum(plant.model.body_mass)) == pytest.approx(c.mass, rel=1e-6)
     # Start height from the geometry: the feet touch the floor.
     bottom = plant.foot_positions()[:, 2] - c.config.foot_radius

@@ -45,8 +45,12 @@ def test_knees_bend_nearer_the_urdf_zero_pose(tmp_path, name, knees):
     assert [str(k).split(".")[-1] for k in ctrl.config.knees] == knees
 
 
+# ANYmal C trots the scenario's own 20 s: its velocity error over a 4 s run's short judged window
+# passed on 2 of seeds 0-19 (seed 0: 0.097 against 0.1), and the plant's exact camera and hatch
+# inertias (robot/urdf_inertia.py; MuJoCo had them averaged) moved seed 0 to 0.121; over 20 s
+# seeds 0-9 pass 9 of 10 (8 before; 0.079-0.098, one outlier at 0.76).
 @pytest.mark.parametrize("name,scenario,duration", [("anymal_b", "quadruped-stand", 2.0),
-                                                    ("anymal_c", "quadruped-trot", 4.0)])
+                                                    ("anymal_c", "quadruped-trot", 20.0)])
 def test_anymal_from_a_minimal_robot_file(tmp_path, name, scenario, duration):
     """ANYmal's contact spheres sit 23 mm up the shank (foot_offset), its folded legs are light
     about the abduction axis (the coupled swing-gain margin) and its hind knees bend forward:

@@ -15,7 +15,7 @@ import traceback
 import warnings
 from pathlib import Path
 
-from .errors import InputError, UnreadKeyWarning
+from .errors import InputError, UnreadKeyWarning, UrdfRepairWarning
 
 
 def _format_value(v) -> str:
@@ -259,14 +259,14 @@ def _first_line(e: BaseException) -> str:
 
 @contextlib.contextmanager
 def _warnings_as_lines(prog: str):
-    """kiloloop's own warnings (UnreadKeyWarning) as one line `PROG: warning: ...` on stderr;
-    any other warning as Python shows it."""
+    """kiloloop's own warnings (UnreadKeyWarning, UrdfRepairWarning) as one line
+    `PROG: warning: ...` on stderr; any other warning as Python shows it."""
     with warnings.catch_warnings():
         warnings.simplefilter("always", UnreadKeyWarning)  # each run says it, not once a process
         show = warnings.showwarning
 
         def one_line(message, category, filename, lineno, file=None, line=None):
-            if issubclass(category, UnreadKeyWarning):
+            if issubclass(category, (UnreadKeyWarning, UrdfRepairWarning)):
                 print(f"{prog}: warning: {message}", file=sys.stderr)
             else:
                 show(message, category, filename, lineno, file, line)

@@ -29,6 +29,11 @@ class UnreadKeyWarning(UserWarning):
     """A --set robot-file key that the scenario being run does not read (it has no effect)."""
 
 
+class UrdfRepairWarning(UserWarning):
+    """A change to a robot's URDF that only its robot file asked for (`balance_inertia`): the
+    link and by how much (robot/urdf_doc.py). Shown once a process for each change."""
+
+
 @contextlib.contextmanager
 def configuring(what: str):
     """Within: a ValueError from a compiled object's constructor (a controller's configure, a

@@ -57,7 +57,7 @@ def check_model(exe: Path, robot, chains, work: Path) -> tuple[bool, int]:
     rng = np.random.default_rng(MODEL_CHECK_SEED)
     compared = 0
     for root, tip in chains:
-        model = kl.RobotModel.from_urdf(str(robot.urdf), root, tip)
+        model = kl.RobotModel.from_urdf(robot.urdf_doc.model_source(), root, tip)
         n = model.nq
         if n == 0:
             continue  # a rigid branch (a sensor link): no dynamics to compare

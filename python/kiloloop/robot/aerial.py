@@ -144,11 +144,11 @@ def model(robot: Any) -> RobotModel:  # robot: a robot_file.Robot (it imports th
     import kiloloop as kl
 
     v = robot.section("vehicle")
+    urdf = robot.urdf_doc.model_source()  # the URDF as the plant reads it too
     try:
         if v.get("ee"):
-            return kl.RobotModel.from_urdf(str(robot.urdf), root=v.get("base") or None,
-                                           tip=v["ee"])
-        return kl.RobotModel.from_urdf(str(robot.urdf))
+            return kl.RobotModel.from_urdf(urdf, root=v.get("base") or None, tip=v["ee"])
+        return kl.RobotModel.from_urdf(urdf)
     except (ValueError, RuntimeError) as e:
         raise RobotFileError(f"{robot.path}: {e}") from None
 

@@ -11,13 +11,15 @@ import hashlib
 import os
 import tomllib
 from dataclasses import dataclass, field
+from functools import cached_property
 from pathlib import Path
 from typing import Callable
 
 from ..errors import InputError
-from . import schema
+from . import joint_limits, schema
 from .aerial import model as aerial_model
 from .errors import RobotFileError
+from .urdf_doc import UrdfDoc, read as read_urdf
 
 # Checks of top-level tables that a layer above robot/ owns: table name -> check(values, where),
 # which raises RobotFileError naming `where` and the key. kiloloop.scenarios registers
@@ -153,6 +155,8 @@ class Robot:
                     raise RobotFileError(f"{where}: missing key '{section}.{k}'")
         if not self.urdf.is_file():
             raise RobotFileError(f"{where}: urdf: file not found: {self.urdf}")
+        if "limits" in d:  # its joints and values, against the URDF (the inertias: urdf_doc)
+            joint_limits.check(self.urdf, d["limits"], self.where)
         for table, check in _TABLE_CHECKS.items():
             if table in d:
                 check(d[table], where)
@@ -195,6 +199,17 @@ class Robot:
     def scenario_overrides(self, scenario: str) -> dict:
         return dict(self.data.get("scenario", {}).get(scenario, {}))
 
+    @cached_property
+    def urdf_doc(self) -> UrdfDoc:
+        """The URDF as the controller's model and the plant read it: [limits.<joint>] and
+        balance_inertia applied, every change named (robot/urdf_doc.py). Read on first use (the
+        model, a plant), not at load: with_overrides({"balance_inertia": True}) still applies to
+        a file whose URDF would be refused without it."""
+        return read_urdf(self.urdf, limits=self.data.get("limits"),
+                         balance_inertia=bool(self.data.get("balance_inertia", False)),
+                         owner=f"{self.path}" + (" (with --set)" if self.overrides else ""),
+                         where=self.where)
+
     def urdf_text(self) -> str:
         return self.urdf.read_text()
 
@@ -212,20 +227,20 @@ class Robot:
         without an arm); the whole tree for other floating-base robots."""
         from .. import _core
 
+        urdf = self.urdf_doc.model_source()
         if self.kind == "arm":
             chain = self.data["chain"]
             locked = {k: float(v) for k, v in chain.get("locked", {}).items()}
             try:
                 if locked:
-                    return _core.RobotModel.from_urdf(str(self.urdf), chain["root"], chain["tip"],
-                                                      locked)
-                return _core.RobotModel.from_urdf(str(self.urdf), chain["root"], chain["tip"])
+                    return _core.RobotModel.from_urdf(urdf, chain["root"], chain["tip"], locked)
+                return _core.RobotModel.from_urdf(urdf, chain["root"], chain["tip"])
             except (ValueError, RuntimeError) as e:
                 raise RobotFileError(f"{self.path}: {e}") from None
         if self.kind == "aerial":
             return aerial_model(self)  # the arm's chain base -> ee, or the whole tree (no arm)
         try:
-            return _core.RobotModel.from_urdf(str(self.urdf))
+            return _core.RobotModel.from_urdf(urdf)
         except (ValueError, RuntimeError) as e:
             raise RobotFileError(f"{self.path}: {e}") from None
 

@@ -23,6 +23,11 @@ KINDS = ("arm", "quadruped", "aerial")
 _COMMON = {
     "name": "", "kind": "", "urdf": "", "package_dirs": [], "description": "",
     "scenario": FREE,   # [scenario.<name>]: checked against that scenario's settings
+    # How the URDF is read, by the controller's model and the plant alike (robot/urdf_doc.py):
+    # link inertias MuJoCo refuses balanced (robot/urdf_inertia.py) instead of refused, and
+    # [limits.<joint>] tables of lower, upper, velocity, effort (robot/joint_limits.py).
+    "balance_inertia": False,
+    "limits": FREE,
 }
 
 

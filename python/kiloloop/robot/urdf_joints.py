@@ -7,14 +7,17 @@ from pathlib import Path
 
 import numpy as np
 
-ACTUATED = ("revolute", "continuous", "prismatic")
+from .joint_limits import ACTUATED
+from .urdf_doc import UrdfDoc, tree
 
 
-def urdf_joints(urdf_path: Path) -> tuple[list[str], np.ndarray]:
-    """Actuated joint names in URDF document order, and their effort limits [N m] (inf if none)."""
+def urdf_joints(urdf: Path | UrdfDoc) -> tuple[list[str], np.ndarray]:
+    """Actuated joint names in URDF document order, and their effort limits [N m] (inf if none).
+    `urdf`: a path, or a UrdfDoc (its limits: a robot file's [limits.<joint>] applied)."""
     names, effort = [], []
+    root = tree(urdf) if isinstance(urdf, UrdfDoc) else ET.parse(urdf).getroot()
     # Direct children only: <transmission> elements also contain <joint> tags.
-    for joint in ET.parse(urdf_path).getroot().findall("joint"):
+    for joint in root.findall("joint"):
         if joint.get("type") not in ACTUATED:
             continue
         names.append(joint.get("name"))

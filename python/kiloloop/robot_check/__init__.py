@@ -12,10 +12,12 @@ from __future__ import annotations
 
 import importlib
 import sys
+import warnings
 
 import numpy as np
 
 from .. import scenarios
+from ..errors import UrdfRepairWarning
 from ..robot import Robot
 
 
@@ -43,6 +45,7 @@ def summary_lines(robot) -> list[str]:
     for name, lo, up, v, e in zip(model.joint_names, model.lower, model.upper,
                                   model.velocity_limit, model.effort_limit):
         lines.append(f"    {name:<24} {lo:>9.4g}  {up:>9.4g}  {v:>9.4g}  {e:>9.4g}")
+    lines.extend(urdf_lines(robot.urdf_doc, model.joint_names))
     folded = getattr(model, "folded_links", None)
     if folded:
         lines.append("  folded into the chain as rigid mass:")
@@ -53,10 +56,24 @@ def summary_lines(robot) -> list[str]:
     return lines
 
 
+def urdf_lines(doc, joints) -> list[str]:
+    """What kiloloop changed in the URDF (the controller's model and the plant read it so:
+    robot/urdf_doc.py) and the controlled joints whose limits it leaves infinite."""
+    lines = []
+    if doc.repairs:
+        lines.append("  URDF changes (the controller's model and the plant alike):")
+        lines.extend(f"    {line}" for line in doc.repairs)
+    lines.extend(f"  warning: {doc.missing_limits[j]}" for j in joints if j in doc.missing_limits)
+    return lines
+
+
 def check(name_or_path, stream=sys.stdout) -> int:
     try:
-        robot = Robot.load(name_or_path)
-        lines = summary_lines(robot)
+        with warnings.catch_warnings():
+            # Listed among the URDF changes; not said twice.
+            warnings.simplefilter("ignore", UrdfRepairWarning)
+            robot = Robot.load(name_or_path)
+            lines = summary_lines(robot)
     except Exception as e:  # noqa: BLE001 - one clear line, whatever broke
         msg = str(e).strip().splitlines()[0] if str(e).strip() else type(e).__name__
         print(f"kiloloop robot check: {msg}", file=sys.stderr)

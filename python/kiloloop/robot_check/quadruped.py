@@ -14,7 +14,7 @@ def summary(robot, model) -> list[str]:
     config = controller_config(robot)
     ctrl = _core.QuadrupedController(model, config)
     d = ctrl.config
-    plant = FloatingBasePlant(robot.urdf, plant_overlay(robot, ctrl), package_dirs=robot.package_dirs)
+    plant = FloatingBasePlant(robot.urdf_doc, plant_overlay(robot, ctrl), package_dirs=robot.package_dirs)
     inertia = np.asarray(ctrl.inertia)
     fmt = lambda v: ", ".join(f"{x:.4g}" for x in np.asarray(v).ravel())  # noqa: E731
     knees = ", ".join(str(k).split(".")[-1].lower() for k in d.knees)

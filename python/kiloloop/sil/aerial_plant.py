@@ -15,7 +15,6 @@ sensors describe the state after the last step.
 """
 from __future__ import annotations
 
-from pathlib import Path
 
 import mujoco
 import numpy as np
@@ -26,7 +25,8 @@ from ..errors import InputError
 from .floating_base import FloatingBaseReadout, add_free_base, add_imu
 from .floating_base import fixed as _fixed
 from .floating_base import unit_quat as _unit_quat
-from .plant import add_joints_and_motors, load_overlay as _plant_overlay, spec_from_urdf
+from .mujoco_refusal import compile_spec
+from .plant import add_joints_and_motors, load_overlay as _plant_overlay, read_urdf, spec_from_urdf
 from .urdf_import import weld_joints
 
 # The [sim.*] defaults live with the robot-file schema, which reads them too.
@@ -56,7 +56,7 @@ class AerialPlant(FloatingBaseReadout):
         """The plant of a loaded aerial robot file (kl.Robot)."""
         model = aerial.model(robot)
         v = robot.section("vehicle")
-        return cls(robot.urdf, robot.sim, rotors=aerial.rotors(robot),
+        return cls(robot.urdf_doc, robot.sim, rotors=aerial.rotors(robot),
                    joints=list(model.joint_names) if v.get("ee") else [], ee=v.get("ee") or None,
                    package_dirs=robot.package_dirs, **kw)
 
@@ -68,8 +68,11 @@ class AerialPlant(FloatingBaseReadout):
         (None: every actuated URDF joint); the others are welded. ee: the end-effector link (None:
         no arm site). timestep [s], damping, frictionloss (arm joints) and efficiency (n,)
         override the overlay; motor_lag=False makes thrust follow the command instantly (used by
-        the inverse-dynamics cross-check)."""
-        urdf_path = Path(urdf_path)
+        the inverse-dynamics cross-check). urdf_path: a URDF path or a robot's UrdfDoc
+        (Robot.urdf_doc)."""
+        self.notes = []
+        self.urdf_doc = doc = read_urdf(urdf_path, self.notes)
+        urdf_path = doc.path
         cfg = load_overlay(overlay)
         phys, jcfg = cfg["physics"], cfg["joints"]
         if timestep is not None:
@@ -84,7 +87,7 @@ class AerialPlant(FloatingBaseReadout):
         if np.any(self.efficiency < 0):
             raise InputError(f"rotors.efficiency: expected >= 0, got {eff!r}")
 
-        names, effort = urdf_joints(urdf_path)
+        names, effort = urdf_joints(doc)
         index = {name: i for i, name in enumerate(names)}
         self.joint_names = list(names if joints is None else joints)
         missing = [j for j in self.joint_names if j not in index]
@@ -93,8 +96,7 @@ class AerialPlant(FloatingBaseReadout):
         self.nq = len(self.joint_names)
         self.effort = np.array([effort[index[j]] for j in self.joint_names])
 
-        self.notes = []
-        spec = spec_from_urdf(urdf_path, phys, package_dirs, visual, self.notes)
+        spec = spec_from_urdf(doc, phys, package_dirs, visual, self.notes)
         welded = weld_joints(spec, self.joint_names)
         if welded:
             self.notes.append(f"welded {len(welded)} joints off the arm: {', '.join(welded)}")
@@ -138,7 +140,7 @@ class AerialPlant(FloatingBaseReadout):
             ee_body.add_site(name=self.ee_site)
 
         self.spec = spec
-        self.model = spec.compile()
+        self.model = compile_spec(spec, urdf_path)
         self.data = mujoco.MjData(self.model)
         self._scratch = mujoco.MjData(self.model)
 

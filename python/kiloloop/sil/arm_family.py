@@ -41,7 +41,7 @@ def build_plant(robot, *, scene=None, visual: bool = False, timestep=None, dampi
     model = robot.model()
     sim = robot.sim
     sim.setdefault("ee", {}).setdefault("body", robot.section("chain")["tip"])
-    plant = MujocoPlant(robot.urdf, sim, timestep=timestep, damping=damping,
+    plant = MujocoPlant(robot.urdf_doc, sim, timestep=timestep, damping=damping,
                         frictionloss=frictionloss, armature=armature, scene=scene,
                         joints=list(model.joint_names),
                         locked=robot.section("chain").get("locked", {}),

@@ -13,7 +13,6 @@ forces that produced the current velocity), which after reset() is the interval 
 """
 from __future__ import annotations
 
-from pathlib import Path
 
 import mujoco
 import numpy as np
@@ -25,7 +24,8 @@ from .floating_base import FloatingBaseReadout, add_free_base, add_imu
 from .geom_bottom import geom_bottom
 from .floating_base import fixed as _fixed
 from .floating_base import unit_quat as _unit_quat
-from .plant import add_joints_and_motors, collision_geoms, spec_from_urdf
+from .mujoco_refusal import compile_spec
+from .plant import add_joints_and_motors, collision_geoms, read_urdf, spec_from_urdf
 from .plant import load_overlay as _load_plant_overlay
 from .timing import whole_periods
 
@@ -48,35 +48,6 @@ def _quat_mul(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     out = np.zeros(4)
     mujoco.mju_mulQuat(out, a, b)
     return out
-
-
-def _repair_inertias(spec, notes: list) -> None:
-    """Degenerate link inertias (dummy root links such as Go1's `base`: 1e-6 kg with every entry
-    of its inertia 1e-6, not positive definite) make MuJoCo refuse the model. Each is replaced
-    by the nearest valid one: the same mass and CoM (so total mass and CoM equal the controller's
-    model), eigenvalues raised to those of a 1 mm sphere of that mass and made to satisfy the
-    triangle inequality. Massless links get no inertia at all (MuJoCo welds them)."""
-    for body in spec.bodies:
-        if body.name == "world" or not body.explicitinertial:
-            continue
-        full = np.asarray(body.fullinertia, dtype=float)
-        if np.all(np.isfinite(full)):
-            I = np.array([[full[0], full[3], full[4]], [full[3], full[1], full[5]],
-                          [full[4], full[5], full[2]]])
-        else:
-            I = np.diag(np.asarray(body.inertia, dtype=float))
-        w, V = np.linalg.eigh(I)
-        floor = 0.4 * body.mass * 1e-3 ** 2
-        ok = body.mass > 0 and w.min() > 0 and w.sum() - 2 * w.max() >= -1e-12 * w.sum()
-        if ok or body.mass <= 0:
-            continue
-        w = np.maximum(w, floor)
-        if w.sum() - 2 * w.max() < 0:  # triangle inequality broken: isotropic, same trace
-            w = np.full(3, w.mean())
-        I = V @ np.diag(w) @ V.T
-        body.fullinertia = [I[0, 0], I[1, 1], I[2, 2], I[0, 1], I[0, 2], I[1, 2]]
-        notes.append(f"link '{body.name}': degenerate inertia replaced (mass {body.mass:g} kg and "
-                     f"CoM kept; principal moments {', '.join(f'{x:.3g}' for x in w)} kg m^2)")
 
 
 def set_friction_options(spec, phys: dict) -> None:
@@ -107,10 +78,14 @@ class FloatingBasePlant(FloatingBaseReadout):
         timestep [s], slope_deg [deg] (ground rising along +x), floor (bool) and feet (link names)
         override the overlay; feet defaults to the overlay's [feet] bodies (FL, FR, RL, RR).
         package_dirs: where package:// mesh URIs resolve; notes collects what the import changed
-        (meshes replaced, inertias repaired). terrain: a sil/terrain.py spec (Stones, Rough,
-        Compliant) that replaces the floor plane (flat start pad at z = 0; no slope with it).
+        (meshes replaced; a URDF path's inertia repairs, robot/urdf_doc.py: a robot's UrdfDoc
+        keeps its own). terrain: a sil/terrain.py spec (Stones, Rough, Compliant) that replaces the
+        floor plane (flat start pad at z = 0; no slope with it). urdf_path: a URDF path or a
+        robot's UrdfDoc (Robot.urdf_doc).
         """
-        urdf_path = Path(urdf_path)
+        self.notes = [] if notes is None else notes
+        self.urdf_doc = doc = read_urdf(urdf_path, self.notes)
+        urdf_path = doc.path
         cfg = _load_overlay(overlay)
         phys, fcfg, jcfg = cfg["physics"], cfg["floor"], cfg["joints"]
         if timestep is not None:
@@ -131,13 +106,11 @@ class FloatingBasePlant(FloatingBaseReadout):
         if not np.isfinite(friction) or friction < 0:
             raise InputError(f"floor.friction: expected a non-negative number, got {friction!r}")
 
-        self.joint_names, effort = urdf_joints(urdf_path)
+        self.joint_names, effort = urdf_joints(doc)
         self.nq = len(self.joint_names)
         self.effort = effort
 
-        self.notes = [] if notes is None else notes
-        spec = spec_from_urdf(urdf_path, phys, package_dirs, notes=self.notes)
-        _repair_inertias(spec, self.notes)
+        spec = spec_from_urdf(doc, phys, package_dirs, notes=self.notes)
         set_friction_options(spec, phys)
 
         self.base_body = add_free_base(spec, urdf_path).name
@@ -173,7 +146,7 @@ class FloatingBasePlant(FloatingBaseReadout):
         self.imu_site = add_imu(spec, cfg["imu"], self.base_body, urdf_path)
 
         self.spec = spec  # kept for inspection, e.g. plant.spec.to_xml()
-        self.model = spec.compile()
+        self.model = compile_spec(spec, urdf_path)
         self.data = mujoco.MjData(self.model)
 
         self._index_floating_base()

@@ -7,15 +7,17 @@ end-effector site and joint sensors. All arrays are numpy, SI units, in URDF joi
 from __future__ import annotations
 
 import tomllib
-from pathlib import Path
 
 import mujoco
 import numpy as np
 
 # The [sim.*] defaults live with the robot-file schema, which reads them too.
 from ..robot.sim_defaults import ARM as _DEFAULTS
+from ..robot import urdf_doc
+from ..robot.urdf_doc import UrdfDoc
 from ..robot.urdf_joints import urdf_joints
 from ..errors import InputError
+from .mujoco_refusal import compile_spec
 from .urdf_import import prepare_urdf, weld_joints
 
 # mj_step1/mj_step2 do not support RK4, and the plant relies on the split (see step()).
@@ -80,12 +82,22 @@ def add_joints_and_motors(spec, joint_names, effort, jcfg: dict, actuators: dict
                         objtype=mujoco.mjtObj.mjOBJ_JOINT, objname=name)
 
 
-def spec_from_urdf(urdf_path: Path, phys: dict, package_dirs=(), visual: bool = False,
-                    notes: list | None = None):
+def read_urdf(urdf, notes: list) -> UrdfDoc:
+    """`urdf`: a robot's UrdfDoc (Robot.urdf_doc: `kiloloop robot check` lists its changes), or a
+    URDF path, read here without a robot file (its changes join the plant's `notes`)."""
+    if isinstance(urdf, UrdfDoc):
+        return urdf
+    doc = urdf_doc.read(urdf)
+    notes.extend(doc.repairs)
+    return doc
+
+
+def spec_from_urdf(doc: UrdfDoc, phys: dict, package_dirs=(), visual: bool = False,
+                   notes: list | None = None):
     """The URDF as an MjSpec with the compiler settings every plant uses, and the overlay's
     integrator, timestep and gravity. Mesh URIs are resolved and unreadable meshes replaced
     (sil/urdf_import.py); what was changed is appended to `notes`."""
-    xml, changes = prepare_urdf(Path(urdf_path), package_dirs, visual=visual)
+    xml, changes = prepare_urdf(doc, package_dirs, visual=visual)
     if notes is not None:
         notes.extend(changes)
     spec = mujoco.MjSpec.from_string(xml)
@@ -128,11 +140,14 @@ class MujocoPlant:
     def __init__(self, urdf_path, overlay=None, *, timestep=None, damping=None, frictionloss=None,
                  armature=None, floor=None, scene=None, joints=None, locked=None,
                  package_dirs=(), visual=False):
-        """overlay: the robot file's [sim] sections (a dict) or a TOML path of them. joints: the
-        controlled chain's joints (default: every movable joint); all other joints are welded at
-        `locked` (joint -> [rad] or [m], default 0). package_dirs: for package:// mesh URIs.
-        visual: keep visual geometry (for rendering)."""
-        urdf_path = Path(urdf_path)
+        """urdf_path: a URDF path or a robot's UrdfDoc (read_urdf). overlay: the robot file's
+        [sim] sections (a dict) or a TOML path of them. joints: the controlled chain's joints
+        (default: every movable joint); all other joints are welded at `locked` (joint -> [rad]
+        or [m], default 0). package_dirs: for package:// mesh URIs. visual: keep visual geometry
+        (for rendering)."""
+        self.notes: list[str] = []
+        self.urdf_doc = doc = read_urdf(urdf_path, self.notes)
+        urdf_path = doc.path
         cfg = load_overlay(overlay)
         phys, jcfg = cfg["physics"], cfg["joints"]
         for key, val in (("damping", damping), ("frictionloss", frictionloss),
@@ -144,7 +159,7 @@ class MujocoPlant:
         if floor is not None:
             phys["floor"] = floor
 
-        all_names, all_effort = urdf_joints(urdf_path)
+        all_names, all_effort = urdf_joints(doc)
         if joints is None:
             joints = all_names
         missing = [n for n in joints if n not in all_names]
@@ -155,8 +170,7 @@ class MujocoPlant:
         effort = np.array([effort_of[n] for n in self.joint_names])
         self.nq = len(self.joint_names)
 
-        self.notes: list[str] = []
-        spec = spec_from_urdf(urdf_path, phys, package_dirs, visual, self.notes)
+        spec = spec_from_urdf(doc, phys, package_dirs, visual, self.notes)
         welded = weld_joints(spec, self.joint_names, locked)
         self.welded = len(welded)
         if welded:
@@ -186,10 +200,7 @@ class MujocoPlant:
         if scene is not None:
             scene(spec)
         self.spec = spec  # kept for inspection, e.g. plant.spec.to_xml()
-        try:
-            self.model = spec.compile()
-        except ValueError as e:
-            raise InputError(f"MuJoCo refuses {urdf_path.name}: {e}") from None
+        self.model = compile_spec(spec, urdf_path)
         self.data = mujoco.MjData(self.model)
         # Scratch data for inverse dynamics, so queries never disturb the simulated state.
         self._scratch = mujoco.MjData(self.model)

@@ -108,7 +108,7 @@ def build(robot, signals, seed, options) -> QuadrupedParts:
     with configuring(f"{robot.name} quadruped controller"):
         controller = kl.QuadrupedController(model, config)
     config = controller.config
-    plant = FloatingBasePlant(robot.urdf, plant_overlay(robot, controller), timestep=physics_dt,
+    plant = FloatingBasePlant(robot.urdf_doc, plant_overlay(robot, controller), timestep=physics_dt,
                               slope_deg=slope_deg, package_dirs=robot.package_dirs,
                               terrain=None if terrain is None else terrain(config))
     if plant.nq != JOINTS:

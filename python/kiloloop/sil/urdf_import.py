@@ -17,6 +17,7 @@ import mujoco
 import numpy as np
 
 from ..errors import InputError
+from ..robot.urdf_doc import UrdfDoc, tree
 
 # Mesh formats MuJoCo's compiler reads itself.
 MUJOCO_MESH_FORMATS = (".stl", ".obj", ".msh")
@@ -58,10 +59,11 @@ def _floats(text, n, default):
     return np.array([float(v) for v in text.split()]) if text else np.full(n, default)
 
 
-def prepare_urdf(urdf_path: Path, package_dirs=(), *, visual: bool = False) -> tuple[str, list[str]]:
-    """The URDF text ready for MjSpec.from_string, and notes on what was changed."""
-    urdf_path = Path(urdf_path)
-    root = ET.parse(urdf_path).getroot()
+def prepare_urdf(doc: UrdfDoc, package_dirs=(), *, visual: bool = False) -> tuple[str, list[str]]:
+    """The URDF text ready for MjSpec.from_string, and notes on what was changed. `doc`: the URDF
+    as every model of the robot reads it (robot/urdf_doc.py: limits and inertias repaired)."""
+    urdf_path = doc.path
+    root = tree(doc)
     notes: list[str] = []
     for link in root.findall("link"):
         for tag in ("visual", "collision"):
