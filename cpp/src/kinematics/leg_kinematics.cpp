@@ -4,7 +4,9 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <cstring>
+#include <string>
 
 #include <kdl/chain.hpp>
 #include <kdl/chainfksolverpos_recursive.hpp>
@@ -13,14 +15,30 @@
 namespace kiloloop {
 namespace {
 
-constexpr double kAxisTol = 1e-6;  // URDF axes are exact; anything else is a different layout
-constexpr double kFkTol = 1e-9;    // [m] closed form vs KDL at test configurations
+// [rad] How far a joint axis may lie off the trunk's x (abduction) or y (hip pitch, knee) at
+// q = 0 and still count as that axis. Real URDFs write pi/2 as 1.57079 (6.3e-6 rad short) or
+// 1.5708 (3.7e-6 rad long), so their hip frames' axes lie a few 1e-6 rad off; 1e-3 rad moves a
+// foot 0.5 mm at 0.5 m of leg, far below the contact and estimation errors the controller
+// handles. A real tilt (a canted hip, 0.1 rad and more) is another layout: refused by name.
+constexpr double kAxisTol = 1e-3;
+constexpr double kFkTol = 1e-9;    // [m] closed form vs KDL at test configurations, exact axes
+constexpr double kDegreesPerRadian = 57.295779513082321;  // for messages (M_PI is POSIX only)
 
-// +1 / -1 when a is +-e, 0 otherwise.
+// [rad] The angle between the axis a (unit) and the line of e (+e or -e).
+double angle_off(const Eigen::Vector3d& a, const Eigen::Vector3d& e) {
+  return std::atan2(a.cross(e).norm(), std::abs(a.dot(e)));
+}
+
+// +1 / -1 when a lies within kAxisTol of +e / -e, 0 otherwise.
 double axis_sign(const Eigen::Vector3d& a, const Eigen::Vector3d& e) {
-  if ((a - e).norm() < kAxisTol) return 1.0;
-  if ((a + e).norm() < kAxisTol) return -1.0;
-  return 0.0;
+  if (!(angle_off(a, e) <= kAxisTol)) return 0.0;
+  return a.dot(e) > 0.0 ? 1.0 : -1.0;
+}
+
+std::string format_double(double x, const char* format) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, format, x);
+  return buf;
 }
 
 // [m] the foot point `offset` (foot link frame) in the frame T maps from. A zero offset is the
@@ -86,9 +104,21 @@ Status leg_geometry_from_model(const RobotModel& model, const std::string& trunk
   const Eigen::Vector3d tip = foot_point(T, foot_offset);
   const Eigen::Vector3d ex = Eigen::Vector3d::UnitX(), ey = Eigen::Vector3d::UnitY();
   LegGeometry g;
-  g.sign = Eigen::Vector3d(axis_sign(axes[0], ex), axis_sign(axes[1], ey), axis_sign(axes[2], ey));
-  if ((g.sign.array() == 0.0).any())
-    return fail("joint axes must be +-x, +-y, +-y (abduction, hip pitch, knee) at q = 0");
+  const Eigen::Vector3d expected[3] = {ex, ey, ey};
+  const char* roles[3] = {"abduction", "hip pitch", "knee"};
+  double worst_off = 0.0;  // [rad]
+  for (int i = 0; i < 3; ++i) {
+    g.sign[i] = axis_sign(axes[i], expected[i]);
+    const double off = angle_off(axes[i], expected[i]);
+    if (g.sign[i] == 0.0)
+      return fail("joint '" + names[i] + "' (" + roles[i] + ") has its axis " +
+                  format_double(off * kDegreesPerRadian, "%.4g") + " deg off the trunk's " +
+                  (i == 0 ? "x" : "y") + " axis at q = 0; the leg kinematics take abduction / hip "
+                  "pitch / knee legs whose axes lie within " +
+                  format_double(kAxisTol * kDegreesPerRadian, "%.3g") + " deg of x, y, y "
+                  "(canted or rotated joint axes are not supported)");
+    worst_off = std::max(worst_off, off);
+  }
   const Eigen::Vector3d abd_to_pitch = points[1] - points[0], pitch_to_knee = points[2] - points[1],
                         knee_to_foot = tip - points[2];
   // The abduction axis is the x line through points[0]; its point moves to the pitch joint's x.
@@ -114,17 +144,27 @@ Status leg_geometry_from_model(const RobotModel& model, const std::string& trunk
     knee = allowed_bends(g).backward ? KneeDirection::kBackward : KneeDirection::kForward;
   g.knee = knee;
   // The closed form must reproduce KDL's FK (catches layouts the algebra above cannot express).
+  // Axes a little off (rounded angles) move the foot by at most that angle times each lever
+  // after it: the tolerance grows by worst_off times the leg's total lever length, three times.
   const LegKinematics leg(g);
   KDL::ChainFkSolverPos_recursive fk(chain);
   KDL::JntArray qk(3);
+  const double levers = abd_to_pitch.norm() + pitch_to_knee.norm() + knee_to_foot.norm();
+  const double tol = kFkTol + 3.0 * worst_off * levers;  // [m]
   const double probes[3][3] = {{0.3, 0.7, -1.2}, {-0.4, -0.5, 1.1}, {0.1, 1.9, 0.4}};
   for (const auto& p : probes) {
     for (int k = 0; k < 3; ++k) qk(k) = p[k];
     KDL::Frame Tq;
     fk.JntToCart(qk, Tq);
-    if ((leg.foot_position(Eigen::Vector3d(p[0], p[1], p[2])) - foot_point(Tq, foot_offset)).norm() > kFkTol)
-      return fail("layout not supported: the abduction / pitch / knee closed form does not match "
-                  "the URDF's kinematics (a pitch or knee axis not parallel to the hip pitch axis?)");
+    const double err =
+        (leg.foot_position(Eigen::Vector3d(p[0], p[1], p[2])) - foot_point(Tq, foot_offset)).norm();
+    if (!(err <= tol))
+      return fail("layout not supported: the abduction / pitch / knee closed form misses the "
+                  "URDF's foot position by " + format_double(err * 1e3, "%.3g") + " mm (allowed " +
+                  format_double(tol * 1e3, "%.3g") + " mm) at q = (" + format_double(p[0], "%g") +
+                  ", " + format_double(p[1], "%g") + ", " + format_double(p[2], "%g") +
+                  "): a pitch or knee axis not parallel to the hip pitch axis, or an offset "
+                  "along an axis the closed form cannot express");
   }
   *out = g;
   return Status::kOk;

@@ -268,6 +268,63 @@ TEST(LegKinematics, RejectsAFootOffsetBeyondTheShank) {
   EXPECT_NE(why.find("foot_offset"), std::string::npos) << why;
 }
 
+// A leg whose hip frame is turned a quarter turn about z, written as real URDFs write it
+// (rpy 1.57079: 6.3e-6 rad short of pi/2), its joint axes given in that frame: its axes lie
+// 6.3e-6 rad off the trunk's x, y, y. `hip_rpy` replaces the turn (a canted hip).
+std::string rotated_hip_leg(const char* hip_rpy) {
+  const std::string inertial = R"(<inertial><mass value="0.1"/><inertia ixx="1e-4" iyy="1e-4" izz="1e-4" ixy="0" ixz="0" iyz="0"/></inertial>)";
+  return std::string(R"(<robot name="rounded">
+  <link name="trunk"><inertial><mass value="1"/><inertia ixx="0.01" iyy="0.01" izz="0.01" ixy="0" ixz="0" iyz="0"/></inertial></link>
+  <joint name="abd" type="revolute"><parent link="trunk"/><child link="hip"/><origin xyz="0.2 0.05 0" rpy=")") +
+         hip_rpy + R"("/>
+    <axis xyz="0 -1 0"/><limit lower="-1" upper="1" effort="5" velocity="10"/></joint>
+  <link name="hip">)" + inertial + R"(</link>
+  <joint name="pitch" type="revolute"><parent link="hip"/><child link="thigh"/><origin xyz="0.05 0 0"/>
+    <axis xyz="1 0 0"/><limit lower="-3" upper="3" effort="5" velocity="10"/></joint>
+  <link name="thigh">)" + inertial + R"(</link>
+  <joint name="knee" type="revolute"><parent link="thigh"/><child link="shank"/><origin xyz="0 0 -0.2"/>
+    <axis xyz="1 0 0"/><limit lower="-2.6" upper="-0.1" effort="5" velocity="10"/></joint>
+  <link name="shank">)" + inertial + R"(</link>
+  <joint name="foot_fixed" type="fixed"><parent link="shank"/><child link="foot"/><origin xyz="0 0 -0.2"/></joint>
+  <link name="foot"/>
+</robot>)";
+}
+
+TEST(LegKinematics, AxesOffByARoundedQuarterTurnAreTheTrunksAxes) {
+  RobotModel model;
+  std::string why;
+  ASSERT_EQ(model_from_urdf_string(rotated_hip_leg("0 0 1.57079"), "", "", &model, &why),
+            Status::kOk) << why;
+  LegGeometry g;
+  ASSERT_EQ(leg_geometry_from_model(model, "trunk", "foot", &g, &why), Status::kOk) << why;
+  const LegKinematics leg(g);
+  KDL::Chain chain;
+  ASSERT_TRUE(model.tree().getChain("trunk", "foot", chain));
+  KDL::ChainFkSolverPos_recursive fk(chain);
+  KDL::JntArray qk(3);
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  for (int k = 0; k < 100; ++k) {
+    const Eigen::Vector3d q(0.5 * u(rng), 0.6 * u(rng), -1.3 + 1.1 * u(rng));
+    for (int j = 0; j < 3; ++j) qk(j) = q[j];
+    KDL::Frame T;
+    fk.JntToCart(qk, T);
+    // 6.3e-6 rad on levers of 0.45 m at most: a few micrometres, not more.
+    EXPECT_LT((leg.foot_position(q) - Eigen::Vector3d(T.p.x(), T.p.y(), T.p.z())).norm(), 1e-5);
+  }
+}
+
+TEST(LegKinematics, ACantedHipIsRefusedByNameAndAngle) {
+  RobotModel model;
+  std::string why;
+  ASSERT_EQ(model_from_urdf_string(rotated_hip_leg("0 0.1 1.5707963267948966"), "", "", &model, &why),
+            Status::kOk) << why;
+  LegGeometry g;
+  EXPECT_EQ(leg_geometry_from_model(model, "trunk", "foot", &g, &why), Status::kModelError);
+  EXPECT_NE(why.find("joint 'pitch' (hip pitch)"), std::string::npos) << why;
+  EXPECT_NE(why.find("5.73 deg off the trunk's y axis"), std::string::npos) << why;
+}
+
 TEST(LegKinematics, RejectsAnArmChain) {
   RobotModel ur5;
   std::string why;
