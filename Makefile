@@ -144,6 +144,8 @@ system-deps:
 $(BIN)/python:
 	$(PYTHON) -m venv $(VENV)
 
+# --no-compile: no .pyc files written at install (Python compiles a module when it is first
+# imported): the test dependencies (Ray, Pinocchio, ...) are thousands of modules never imported.
 # pip's whole output (a failure's cause: "Could not install packages due to an OSError" is
 # followed by the error itself, "[Errno 28] No space left on device" for one), printed in part.
 PIP_LOG := build/pip-install.log
@@ -157,7 +159,7 @@ build: system-deps $(BIN)/python
 	@echo "==> kiloloop: building the C++ core and the Python module into $(BUILD_DIR)"
 	@echo "    (incremental; the first build takes about 5.5 minutes on 2 cores), then installing"
 	@echo "    the Python dependencies (mujoco, numpy, pinocchio and example-robot-data for tests...)"
-	@mkdir -p build; set -o pipefail; $(BIN)/python -m pip install -v $(PIP_BUILD_FLAGS) ".[test]" 2>&1 \
+	@mkdir -p build; set -o pipefail; $(BIN)/python -m pip install -v --no-compile $(PIP_BUILD_FLAGS) ".[test]" 2>&1 \
 	  | tee $(PIP_LOG) \
 	  | grep --line-buffered -E '^ *\[[0-9]+/[0-9]+\] (Building|Linking)|^ERROR|error:|Successfully installed' \
 	  | sed -u -E 's/^ *(\[[0-9]+\/[0-9]+\]) (Building|Linking) CXX (object|executable|static library|shared module) /    \1 /; s/\.o$$//' \

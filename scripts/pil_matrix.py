@@ -42,7 +42,7 @@ def robots(directory: Path) -> list[tuple[str, str]]:
 
 
 def main() -> int:
-    from kiloloop.firmware.pil import TARGETS, run_pil
+    from kiloloop.firmware.pil import TARGETS, prebuild, run_pil
 
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--targets", default=",".join(TARGETS),
@@ -51,6 +51,8 @@ def main() -> int:
     ap.add_argument("--json", action="store_true")
     args = ap.parse_args()
     results = []
+    # The whole core of each target (every family): one build serves all robots.
+    prebuild(dict.fromkeys(args.targets.split(",")), work=ROOT / "build" / "firmware")
     with tempfile.TemporaryDirectory() as tmp:
         for target in args.targets.split(","):
             for label, robot in robots(Path(tmp)):

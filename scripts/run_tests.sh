@@ -28,16 +28,18 @@ san_pid=$!
 # A stopped make test (Ctrl-C) stops the background stage too.
 trap 'kill "$san_pid" 2>/dev/null' INT TERM
 
-( time make --no-print-directory build 2>&3 ) 3>&2 2>build/build-stage.time \
-  || { echo "==> make build FAILED; stopping the sanitizer stage"; kill "$san_pid" 2>/dev/null; wait; exit 1; }
-echo "==> make build: $(cat build/build-stage.time)"
-# The PIL targets' cross-compiled cores (aarch64, Cortex-M7), niced, beside pytest: they take the
-# core pytest (one process) and the sanitizer stage leave; pytest's PIL tests run last and wait
-# for them (a lock per core directory; python/kiloloop/firmware/build.py).
-( nice -n 10 .venv/bin/python -c "from kiloloop.firmware.pil import prebuild; print('PIL cores built:', prebuild(work='$PWD/build/firmware'))" \
+# The PIL targets' cross-compiled cores (aarch64; the Cortex-M7's arm family), niced, from the
+# start (scripts/prebuild_pil.py: they need no Python package): they take the CPU the other
+# stages leave, so that pytest's PIL tests, which run last and wait for them (a lock per core
+# directory; python/kiloloop/firmware/build.py), find them built.
+( ( time nice -n 10 .venv/bin/python scripts/prebuild_pil.py build/firmware ) \
     >build/pil-prebuild.log 2>&1 ) &
 pil_pid=$!
 trap 'kill "$san_pid" "$pil_pid" 2>/dev/null' INT TERM
+
+( time make --no-print-directory build 2>&3 ) 3>&2 2>build/build-stage.time \
+  || { echo "==> make build FAILED; stopping the sanitizer stage"; kill "$san_pid" "$pil_pid" 2>/dev/null; wait; exit 1; }
+echo "==> make build: $(cat build/build-stage.time)"
 # The self-contained wheel (dist/; from build/py: seconds), which tests/test_wheel.py installs
 # into a fresh virtual environment and runs with the Debian libraries hidden.
 ( time scripts/make_wheel.sh 2>&3 ) 3>&2 2>build/wheel-stage.time \
@@ -47,6 +49,7 @@ echo "==> Python tests (pytest; the PIL cores build beside it, log build/pil-pre
 ( time .venv/bin/python -m pytest -q --durations=15 2>&3 ) 3>&2 2>build/pytest-stage.time
 py_rc=$?
 wait "$pil_pid" || echo "==> the PIL core prebuild failed (the PIL tests say why): $(tail -n 3 build/pil-prebuild.log)"
+echo "==> PIL cores: $(tail -n 4 build/pil-prebuild.log | tr '\n' ' ')"
 echo "==> pytest: $(cat build/pytest-stage.time); waiting for the sanitizer stage"
 
 wait "$san_pid"

@@ -115,11 +115,22 @@ def _run(cmd: list) -> str:
     return proc.stdout
 
 
+FAMILIES = ("arm", "quadruped", "aerial")  # CMakeLists.txt's KILOLOOP_CORE_FAMILIES
+
+
+def core_suffix(target: str, families=None) -> str:
+    """The core directories' suffix of a cross target and a family subset (None: all):
+    core-aarch64, core-cortex-m7-arm."""
+    subset = sorted(set(families or FAMILIES), key=FAMILIES.index)
+    return f"-{target}" + ("" if len(subset) == len(FAMILIES) else "-" + "-".join(subset))
+
+
 def install_rt_core(source: Path, work: Path, jobs: int = 2, toolchain: Path | None = None,
-                    suffix: str = "") -> Path:
+                    suffix: str = "", families=None) -> Path:
     """Builds (incrementally) and installs the no-exceptions core and the URDF loader; returns
     the install prefix. toolchain: a CMake toolchain file, for a cross target (then the core
-    alone, in core<suffix>/ and prefix<suffix>/)."""
+    alone, in core<suffix>/ and prefix<suffix>/). families: the robot families the core holds
+    (a cross core only; None: all of them)."""
     cmake = _tool("cmake")
     core, prefix = work / f"core{suffix}", work / f"prefix{suffix}"
     work.mkdir(parents=True, exist_ok=True)
@@ -128,11 +139,11 @@ def install_rt_core(source: Path, work: Path, jobs: int = 2, toolchain: Path | N
     with open(work / f"core{suffix}.lock", "w") as lock:
         fcntl.flock(lock, fcntl.LOCK_EX)
         return _install_rt_core(cmake, source, core, prefix, jobs, toolchain,
-                                third_party_cache(source, work))
+                                third_party_cache(source, work), families)
 
 
 def _install_rt_core(cmake: str, source: Path, core: Path, prefix: Path, jobs: int,
-                     toolchain: Path | None, downloads: Path) -> Path:
+                     toolchain: Path | None, downloads: Path, families) -> Path:
     cache = core / "CMakeCache.txt"
     if cache.is_file() and _configured_source(cache) != source.resolve():
         shutil.rmtree(core)  # configured from other sources (another checkout, the kit's copy)
@@ -144,7 +155,8 @@ def _install_rt_core(cmake: str, source: Path, core: Path, prefix: Path, jobs: i
     targets = ["kiloloop_core", "kiloloop_urdf"]
     if toolchain is not None:
         options = [o for o in options if not o.startswith("-DKILOLOOP_BUILD_URDF")]
-        options += [f"-DCMAKE_TOOLCHAIN_FILE={toolchain}", "-DKILOLOOP_BUILD_URDF=OFF"]
+        options += [f"-DCMAKE_TOOLCHAIN_FILE={toolchain}", "-DKILOLOOP_BUILD_URDF=OFF",
+                    f"-DKILOLOOP_CORE_FAMILIES={';'.join(families or FAMILIES)}"]
         targets = ["kiloloop_core"]
     if not cache.is_file() or "KILOLOOP_CORE_NO_EXCEPTIONS:BOOL=ON" not in cache.read_text():
         _run([cmake, "-S", source, "-B", core, *_generator(), *options])

@@ -134,22 +134,32 @@ def build_plugin(source: Path, work: Path) -> Path:
 
 
 def prebuild(targets=None, work=None, jobs: int = 2) -> list[str]:
-    """Builds the firmware core of every target whose tools this machine has (all of TARGETS by
-    default) and the QEMU plugin, ahead of the PIL runs: `make test` runs it in the background
-    beside pytest (scripts/run_tests.sh), whose PIL tests come last. The names built."""
+    """Builds the firmware cores of the targets whose tools this machine has and the QEMU
+    plugin, ahead of the PIL runs: `make test` runs it in the background from its start
+    (scripts/prebuild_pil.py), and its PIL tests come last. targets: name -> the families its
+    core holds (None: all; default: every target, all families). The names built."""
     source = build.source_root()
     work = Path(work) if work else build.default_work()
     built = []
-    for name in targets or TARGETS:
+    for name, families in (targets or dict.fromkeys(TARGETS)).items():
         t = TARGETS[name]
         if not all(shutil.which(p) for p in t.programs):
             continue
         build.install_rt_core(source, work, jobs=jobs, toolchain=source / "cmake" / t.toolchain,
-                              suffix=f"-{t.name}")
+                              suffix=build.core_suffix(t.name, families), families=families)
         built.append(name)
     if built:
         build_plugin(source, work)
     return built
+
+
+def core_for(target: Target, family: str, work: Path) -> tuple[str, tuple | None]:
+    """The cross core a PIL run of `family` builds against: the whole core where the work
+    directory has one (`make pil`, make test's aarch64 runs), else the family's own, which
+    compiles only what its firmware links. (suffix, families)."""
+    if (work / f"core-{target.name}" / "CMakeCache.txt").is_file():
+        return build.core_suffix(target.name), None
+    return build.core_suffix(target.name, (family,)), (family,)
 
 
 def symbol_address(target: Target, exe: Path, name: str) -> int:
@@ -190,7 +200,9 @@ def run_pil(robot_arg, *, target: str, duration: float | None = None, seed: int 
                           echo=echo, scenario=scenario, what_for=f"pil ({t.name})",
                           subdir=f"pil-{t.name}")
     toolchain = source / "cmake" / t.toolchain
-    prefix = build.install_rt_core(source, work, toolchain=toolchain, suffix=f"-{t.name}")
+    suffix, families = core_for(t, r.family.name, work)
+    prefix = build.install_rt_core(source, work, toolchain=toolchain, suffix=suffix,
+                                   families=families)
     exe = build.build_firmware(source, prefix, r.header.parent, r.here / "build",
                                toolchain=toolchain)
     echo(f"  firmware: {exe} ({t.name}, -fno-exceptions -fno-rtti)")
