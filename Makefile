@@ -45,7 +45,7 @@ SAN_ENV := ASAN_OPTIONS=detect_leaks=1:abort_on_error=1:strict_string_checks=1 \
            UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
            LSAN_OPTIONS=suppressions=$(abspath tests/lsan.supp)
 
-.PHONY: demo test wheel cpp-build cpp-test bench pil build system-deps clean robot-matrix matrix matrix-seeds quadruped-robots fuzz sanitize \
+.PHONY: demo test wheel wheel-only cpp-build cpp-test bench pil build system-deps clean robot-matrix matrix matrix-seeds quadruped-robots fuzz sanitize \
         b2b firmware-loop
 
 demo: build
@@ -170,7 +170,11 @@ build: system-deps $(BIN)/python
 # The self-contained wheel in dist/ (scripts/make_wheel.sh: pip wheel from build/py, seconds,
 # then auditwheel repair; docs/install.md). Prints the wheel, its size and the time taken.
 wheel: build
-	WHEEL_DIR=$(WHEEL_DIR) scripts/make_wheel.sh
+	@$(MAKE) --no-print-directory wheel-only
+
+# The wheel from build/py as it is, without `make build` first (make test runs it right after).
+wheel-only:
+	WHEEL_DIR=$(WHEEL_DIR) PIP_BUILD_FLAGS="$(PIP_BUILD_FLAGS)" scripts/make_wheel.sh
 
 clean:
 	rm -rf build $(OUT) $(WHEEL_DIR)

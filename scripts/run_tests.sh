@@ -7,7 +7,7 @@
 #      when it passes, the whole log when it fails).
 #   2. In the foreground: `make build` (the Python dependencies, the package built in build/py
 #      and installed into .venv, with its firmware kit: the core's archive the module links),
-#      the self-contained wheel in dist/ (scripts/make_wheel.sh, what `make wheel` runs), then
+#      the self-contained wheel in dist/ (`make wheel-only`: scripts/make_wheel.sh), then
 #      pytest (it builds every robot's firmware against the kit and replays its log through it,
 #      bit for bit; it installs the wheel into a fresh virtual environment and runs it with the
 #      Debian libraries hidden).
@@ -42,9 +42,9 @@ trap 'kill "$san_pid" "$pil_pid" 2>/dev/null' INT TERM
 echo "==> make build: $(cat build/build-stage.time)"
 # The self-contained wheel (dist/; from build/py: seconds), which tests/test_wheel.py installs
 # into a fresh virtual environment and runs with the Debian libraries hidden.
-( time scripts/make_wheel.sh 2>&3 ) 3>&2 2>build/wheel-stage.time \
+( time make --no-print-directory wheel-only 2>&3 ) 3>&2 2>build/wheel-stage.time \
   || { echo "==> the wheel FAILED"; kill "$san_pid" "$pil_pid" 2>/dev/null; wait; exit 1; }
-echo "==> the wheel (scripts/make_wheel.sh): $(cat build/wheel-stage.time)"
+echo "==> the wheel (make wheel-only): $(cat build/wheel-stage.time)"
 echo "==> Python tests (pytest; the PIL cores build beside it, log build/pil-prebuild.log)"
 ( time .venv/bin/python -m pytest -q --durations=15 2>&3 ) 3>&2 2>build/pytest-stage.time
 py_rc=$?
