@@ -25,6 +25,14 @@ class UnknownName(InputError, KeyError):
         return str(self.args[0]) if self.args else ""
 
 
+class ScenarioRefused(InputError):
+    """A scenario that this robot cannot pass for a physical reason, found at start from the robot's
+    data before anything runs: an effort limit below what the scenario needs, a workspace that
+    cannot hold its targets. The message names the robot, the scenario, the reason and the
+    figures (what is needed against what the robot has), e.g. "z1: arm-press needs 30 N at the
+    tool, its wrist joints give 12 N". Raised instead of failing mid-run."""
+
+
 class UnreadKeyWarning(UserWarning):
     """A --set robot-file key that the scenario being run does not read (it has no effect)."""
 
