@@ -39,6 +39,9 @@ SAN_OPT ?= -O1 -g1
 # Instrument the test programs' own sources too (ON), or only the code under test (OFF: what
 # `make test` runs; KILOLOOP_SANITIZE_TEST_CODE in CMakeLists.txt says what is left out).
 SAN_TEST_CODE ?= ON
+# Leave out the UBSan checks AddressSanitizer covers (ON: what `make test` runs;
+# KILOLOOP_SANITIZE_UB_LEAN in CMakeLists.txt lists them and the measured cost).
+SAN_UB_LEAN ?= OFF
 JOBS ?= 2
 # LeakSanitizer on; any UB report is fatal (also compiled in: -fno-sanitize-recover=undefined).
 SAN_ENV := ASAN_OPTIONS=detect_leaks=1:abort_on_error=1:strict_string_checks=1 \
@@ -57,7 +60,7 @@ demo: build
 # build/asan-stage.log) in the background from the start, `make build` and pytest in the
 # foreground (scripts/run_tests.sh); fails if either fails. Measured stage times: docs/hardening.md.
 test: system-deps $(BIN)/cmake
-	scripts/run_tests.sh SAN_RT=OFF SAN_TEST_CODE=OFF SAN_OPT="-O1 -g0"
+	scripts/run_tests.sh SAN_RT=OFF SAN_TEST_CODE=OFF SAN_UB_LEAN=ON SAN_OPT="-O1 -g0"
 
 # The C++ tests and the fuzz harness at -O2 without sanitizers (plain CMake, a unity build, in
 # build/cpp): the allocation proof with the malloc interposer at the shipped optimization level
@@ -128,7 +131,7 @@ sanitize: system-deps $(BIN)/cmake
 	$(BIN)/cmake -S . -B $(SAN_DIR) -G Ninja -DCMAKE_MAKE_PROGRAM=$(abspath $(BIN)/ninja) \
 	  -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="$(SAN_OPT) -DNDEBUG" \
 	  -DKILOLOOP_SANITIZE=ON -DKILOLOOP_RT_NO_EXCEPTIONS=$(SAN_RT) -DKILOLOOP_BUILD_TESTS=ON \
-	  -DKILOLOOP_SANITIZE_TEST_CODE=$(SAN_TEST_CODE) \
+	  -DKILOLOOP_SANITIZE_TEST_CODE=$(SAN_TEST_CODE) -DKILOLOOP_SANITIZE_UB_LEAN=$(SAN_UB_LEAN) \
 	  -DKILOLOOP_BUILD_PYTHON=OFF -DKILOLOOP_BUILD_BENCH=OFF \
 	  -DKILOLOOP_FUZZ_SHORT_INPUTS=$(SAN_FUZZ_INPUTS) \
 	  -DCMAKE_UNITY_BUILD=$(SAN_UNITY) -DCMAKE_UNITY_BUILD_BATCH_SIZE=$(SAN_UNITY_BATCH)
