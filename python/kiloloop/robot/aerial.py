@@ -129,11 +129,59 @@ def controller_settings(robot) -> dict:
     return c
 
 
-def bandwidths(robot) -> dict:
-    """[rad/s] attitude, position (horizontal), arm: derived unless [controller] sets them."""
+def tilt_limit(robot) -> float:
+    """[rad] the largest tilt the position loop commands ([controller] tilt_limit, else the
+    controller's default)."""
+    import kiloloop as kl
+
     c = controller_settings(robot)
-    att = float(c.get("attitude_bandwidth") or min(0.6 / time_constant(robot),
-                                                   MAX_ATTITUDE_BANDWIDTH))
+    return float(c["tilt_limit"]) if "tilt_limit" in c else kl.PositionControlConfig().max_tilt
+
+
+def roll_pitch_authority(robot) -> float:
+    """[rad/s^2] the smallest roll or pitch angular acceleration the rotors can give the vehicle
+    (arm frozen at nominal: the rigid inertia about the body CoM) in either direction while they
+    hold its weight: each rotor's room between its hover share and thrust_min / thrust_max,
+    through the allocation's pseudo-inverse. The thrust margin as the attitude loop sees it."""
+    import kiloloop as kl
+
+    cfg = kl.AerialConfig()
+    cfg.rotors = rotor_config(robot)
+    ctrl = kl.AerialController(model(robot), cfg)
+    alloc = ctrl.allocation
+    lateral = alloc.uses_lateral_rows
+    # Rows the allocation inverts: [T; tau] (flat rotors) or [F; tau] (tilted, lateral rows).
+    rows = np.asarray(alloc.effectiveness if lateral else alloc.mixer)
+    torque_col = 3 if lateral else 1
+    P = np.linalg.pinv(rows)
+    f0 = np.asarray(alloc.collective_share) * ctrl.hover_thrust
+    hi = np.broadcast_to(np.asarray(cfg.rotors.thrust_max, dtype=float), f0.shape)
+    lo = float(cfg.rotors.thrust_min)
+    J = np.asarray(ctrl.rigid_inertia)
+    out = math.inf
+    for axis in (0, 1):
+        p = P[:, torque_col + axis]
+        for d in (p, -p):
+            up = np.where(d > 1e-12, (hi - f0) / np.where(d > 1e-12, d, 1.0), math.inf)
+            down = np.where(d < -1e-12, (lo - f0) / np.where(d < -1e-12, d, -1.0), math.inf)
+            torque = float(min(up.min(), down.min()))  # [N m] before a rotor leaves its range
+            out = min(out, max(torque, 0.0) / J[axis, axis])
+    return out
+
+
+def bandwidths(robot) -> dict:
+    """[rad/s] attitude, position (horizontal), arm: derived unless [controller] sets them.
+    Attitude: 0.6 / tau_m, at most MAX_ATTITUDE_BANDWIDTH and at most 2 sqrt(alpha / theta), the
+    loop whose step response settles (91 %, 4 / w) no sooner than the rotors' margin alpha
+    (roll_pitch_authority) can turn the vehicle bang-bang (2 sqrt(theta / alpha)) through the
+    largest tilt step theta the position loop commands (tilt_limit, 0.6 rad): a faster loop asks
+    for torque the rotors do not have on every large step (a push) and rings in saturation."""
+    c = controller_settings(robot)
+    att = c.get("attitude_bandwidth")
+    if not att:
+        att = min(0.6 / time_constant(robot), MAX_ATTITUDE_BANDWIDTH,
+                  2.0 * math.sqrt(roll_pitch_authority(robot) / tilt_limit(robot)))
+    att = float(att)
     pos = float(c.get("position_bandwidth") or att / 5.0)
     arm = float(c.get("arm_bandwidth") or att)
     return {"attitude": att, "position": pos, "arm": arm}
