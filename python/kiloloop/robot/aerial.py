@@ -143,20 +143,9 @@ def roll_pitch_authority(robot) -> float:
     (arm frozen at nominal: the rigid inertia about the body CoM) in either direction while they
     hold its weight: each rotor's room between its hover share and thrust_min / thrust_max,
     through the allocation's pseudo-inverse. The thrust margin as the attitude loop sees it."""
-    import kiloloop as kl
-
-    cfg = kl.AerialConfig()
-    cfg.rotors = rotor_config(robot)
-    ctrl = kl.AerialController(model(robot), cfg)
-    alloc = ctrl.allocation
-    lateral = alloc.uses_lateral_rows
-    # Rows the allocation inverts: [T; tau] (flat rotors) or [F; tau] (tilted, lateral rows).
-    rows = np.asarray(alloc.effectiveness if lateral else alloc.mixer)
-    torque_col = 3 if lateral else 1
+    rows, f0, lo, hi, ctrl = _allocation_rows(robot)
     P = np.linalg.pinv(rows)
-    f0 = np.asarray(alloc.collective_share) * ctrl.hover_thrust
-    hi = np.broadcast_to(np.asarray(cfg.rotors.thrust_max, dtype=float), f0.shape)
-    lo = float(cfg.rotors.thrust_min)
+    torque_col = 3 if rows.shape[0] == 6 else 1
     J = np.asarray(ctrl.rigid_inertia)
     out = math.inf
     for axis in (0, 1):
@@ -167,6 +156,53 @@ def roll_pitch_authority(robot) -> float:
             torque = float(min(up.min(), down.min()))  # [N m] before a rotor leaves its range
             out = min(out, max(torque, 0.0) / J[axis, axis])
     return out
+
+
+def _allocation_rows(robot):
+    """The rotors as the allocation sees them, about the body CoM: (rows, f0, lo, hi, ctrl) with
+    rows the (4, n) mixer [T; tau] or, for tilted rotors, the (6, n) effectiveness [F; tau]; f0
+    the hover thrusts (n,) [N] with zero torque; [lo, hi] each rotor's range [N]; ctrl a
+    kl.AerialController with the derived rotors (gains do not matter here)."""
+    import kiloloop as kl
+
+    cfg = kl.AerialConfig()
+    cfg.rotors = rotor_config(robot)
+    ctrl = kl.AerialController(model(robot), cfg)
+    alloc = ctrl.allocation
+    rows = np.asarray(alloc.effectiveness if alloc.uses_lateral_rows else alloc.mixer)
+    f0 = np.asarray(alloc.collective_share) * ctrl.hover_thrust
+    hi = np.broadcast_to(np.asarray(cfg.rotors.thrust_max, dtype=float), f0.shape).copy()
+    return rows, f0, float(cfg.rotors.thrust_min), hi, ctrl
+
+
+def hover_weight_with(robot, efficiency) -> tuple[float, float]:
+    """([N] the largest weight the rotors can hold level with no torque left over, yaw included,
+    when rotor k gives efficiency[k] of its thrust and drag torque; [N] the vehicle's weight).
+    The arm at nominal: its moment about the body CoM is part of the torque to cancel."""
+    import kiloloop as kl
+
+    rows, _, lo, hi, ctrl = _allocation_rows(robot)
+    n = rows.shape[1]
+    A = rows * np.asarray(efficiency, dtype=float)[None, :]
+    weight = ctrl.hover_thrust
+    # Torque the rotors must give about the body CoM: gravity acts at the vehicle's CoM.
+    tau = np.cross(np.asarray(ctrl.vehicle_com) - np.asarray(ctrl.body_com), [0.0, 0.0, weight])
+    lateral = rows.shape[0] == 6
+    C, d = np.vstack([np.eye(n), -np.eye(n)]), np.concatenate([hi, -np.full(n, lo)])
+
+    def holds(scale: float) -> bool:
+        t = scale * tau
+        w = np.array([0.0, 0.0, scale * weight, *t]) if lateral else np.array([scale * weight, *t])
+        return kl.qp.solve(np.eye(n), np.zeros(n), A_eq=A, b_eq=w, C=C,
+                           d=d).status == kl.qp.QpStatus.OPTIMAL
+
+    low, high = 0.0, 4.0
+    if holds(high):
+        return high * weight, weight
+    for _ in range(40):  # bisection on the weight held (the feasible set is convex in it)
+        mid = 0.5 * (low + high)
+        low, high = (mid, high) if holds(mid) else (low, mid)
+    return low * weight, weight
 
 
 def bandwidths(robot) -> dict:
