@@ -5,9 +5,12 @@ The file gives the geometry: `[vehicle] base` (and `ee` when it carries an arm) 
 table per rotor (position, axis, spin, thrust_max, torque_coefficient, time_constant). From them and
 the URDF's masses:
 - hover thrust and thrust/weight: the rotors' pseudo-inverse allocation about the body CoM;
-- attitude gains: bandwidth 0.6 / tau_m (the slowest rotor's time constant, capped at 40 rad/s),
-  critically damped (yaw at half the bandwidth): the same phase margin through the rotor lag for
-  any vehicle (tau_m = 30 ms gives 20 rad/s: kp 400, kd 40);
+- roll/pitch authority: the angular acceleration the rotors' margin at hover gives the rigid
+  vehicle (roll_pitch_authority);
+- attitude gains: bandwidth 0.6 / tau_m (the slowest rotor's time constant: the same phase margin
+  through the rotor lag for any vehicle; tau_m = 30 ms gives 20 rad/s: kp 400, kd 40), capped at
+  40 rad/s and at 2 sqrt(authority / tilt limit) (bandwidths()), critically damped (yaw at half
+  the bandwidth);
 - position gains: a fifth of the attitude bandwidth horizontally, a quarter vertically, critically
   damped, integral w^3 / 16 (so the loops stay separated by the same ratio);
 - arm gains: the attitude bandwidth (the arm's motion is what the attitude loop has to absorb);
