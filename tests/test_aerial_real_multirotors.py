@@ -115,3 +115,14 @@ def test_reach_refused_for_an_arm_of_two_joints(robots):
         scenarios.run_named("aerial-reach", robots["borinot"], duration=2.0)
     with pytest.raises(ScenarioRefused, match="has none"):
         scenarios.run_named("aerial-arm-sweep", robots["hector"], duration=2.0)
+
+
+def test_rotors_that_cannot_lift_the_vehicle_are_an_input_error(tmp_path):
+    """The derivation builds the allocation: rotors too weak for the vehicle are the robot file's
+    error (exit 2, the figures), not a bug's traceback."""
+    from kiloloop.errors import InputError
+
+    path = write_hector(tmp_path)
+    path.write_text(path.read_text().replace("thrust_max = 5.0", "thrust_max = 3.0"))
+    with pytest.raises(InputError, match=r"cannot lift the vehicle .*12\.0+ N <= m g = 14\.4"):
+        aerial_robot.bandwidths(Robot.load(path))

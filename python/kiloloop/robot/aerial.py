@@ -168,9 +168,12 @@ def _allocation_rows(robot):
     kl.AerialController with the derived rotors (gains do not matter here)."""
     import kiloloop as kl
 
+    from ..errors import configuring
+
     cfg = kl.AerialConfig()
     cfg.rotors = rotor_config(robot)
-    ctrl = kl.AerialController(model(robot), cfg)
+    with configuring(f"{robot.name} aerial controller"):  # e.g. rotors that cannot lift it
+        ctrl = kl.AerialController(model(robot), cfg)
     alloc = ctrl.allocation
     rows = np.asarray(alloc.effectiveness if alloc.uses_lateral_rows else alloc.mixer)
     f0 = np.asarray(alloc.collective_share) * ctrl.hover_thrust
