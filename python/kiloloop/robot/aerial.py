@@ -202,7 +202,7 @@ def hover_weight_with(robot, efficiency) -> tuple[float, float]:
         return kl.qp.solve(np.eye(n), np.zeros(n), A_eq=A, b_eq=w, C=C,
                            d=d).status == kl.qp.QpStatus.OPTIMAL
 
-    low, high = 0.0, 4.0
+    low, high = 0.0, 16.0  # [weights]: a thrust/weight beyond 16 is reported as 16
     if holds(high):
         return high * weight, weight
     for _ in range(40):  # bisection on the weight held (the feasible set is convex in it)
