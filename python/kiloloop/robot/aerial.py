@@ -5,9 +5,12 @@ The file gives the geometry: `[vehicle] base` (and `ee` when it carries an arm) 
 table per rotor (position, axis, spin, thrust_max, torque_coefficient, time_constant). From them and
 the URDF's masses:
 - hover thrust and thrust/weight: the rotors' pseudo-inverse allocation about the body CoM;
-- attitude gains: bandwidth 0.6 / tau_m (the slowest rotor's time constant, capped at 40 rad/s),
-  critically damped (yaw at half the bandwidth): the same phase margin through the rotor lag for
-  any vehicle (tau_m = 30 ms gives 20 rad/s: kp 400, kd 40);
+- roll/pitch authority: the angular acceleration the rotors' margin at hover gives the rigid
+  vehicle (roll_pitch_authority);
+- attitude gains: bandwidth 0.6 / tau_m (the slowest rotor's time constant: the same phase margin
+  through the rotor lag for any vehicle; tau_m = 30 ms gives 20 rad/s: kp 400, kd 40), capped at
+  40 rad/s and at 2 sqrt(authority / tilt limit) (bandwidths()), critically damped (yaw at half
+  the bandwidth);
 - position gains: a fifth of the attitude bandwidth horizontally, a quarter vertically, critically
   damped, integral w^3 / 16 (so the loops stay separated by the same ratio);
 - arm gains: the attitude bandwidth (the arm's motion is what the attitude loop has to absorb);
@@ -129,11 +132,98 @@ def controller_settings(robot) -> dict:
     return c
 
 
-def bandwidths(robot) -> dict:
-    """[rad/s] attitude, position (horizontal), arm: derived unless [controller] sets them."""
+def tilt_limit(robot) -> float:
+    """[rad] the largest tilt the position loop commands ([controller] tilt_limit, else the
+    controller's default)."""
+    import kiloloop as kl
+
     c = controller_settings(robot)
-    att = float(c.get("attitude_bandwidth") or min(0.6 / time_constant(robot),
-                                                   MAX_ATTITUDE_BANDWIDTH))
+    return float(c["tilt_limit"]) if "tilt_limit" in c else kl.PositionControlConfig().max_tilt
+
+
+def roll_pitch_authority(robot) -> float:
+    """[rad/s^2] the smallest roll or pitch angular acceleration the rotors can give the vehicle
+    (arm frozen at nominal: the rigid inertia about the body CoM) in either direction while they
+    hold its weight: each rotor's room between its hover share and thrust_min / thrust_max,
+    through the allocation's pseudo-inverse. The thrust margin as the attitude loop sees it."""
+    rows, f0, lo, hi, ctrl = _allocation_rows(robot)
+    P = np.linalg.pinv(rows)
+    torque_col = 3 if rows.shape[0] == 6 else 1
+    J = np.asarray(ctrl.rigid_inertia)
+    out = math.inf
+    for axis in (0, 1):
+        p = P[:, torque_col + axis]
+        for d in (p, -p):
+            up = np.where(d > 1e-12, (hi - f0) / np.where(d > 1e-12, d, 1.0), math.inf)
+            down = np.where(d < -1e-12, (lo - f0) / np.where(d < -1e-12, d, -1.0), math.inf)
+            torque = float(min(up.min(), down.min()))  # [N m] before a rotor leaves its range
+            out = min(out, max(torque, 0.0) / J[axis, axis])
+    return out
+
+
+def _allocation_rows(robot):
+    """The rotors as the allocation sees them, about the body CoM: (rows, f0, lo, hi, ctrl) with
+    rows the (4, n) mixer [T; tau] or, for tilted rotors, the (6, n) effectiveness [F; tau]; f0
+    the hover thrusts (n,) [N] with zero torque; [lo, hi] each rotor's range [N]; ctrl a
+    kl.AerialController with the derived rotors (gains do not matter here)."""
+    import kiloloop as kl
+
+    from ..errors import configuring
+
+    cfg = kl.AerialConfig()
+    cfg.rotors = rotor_config(robot)
+    with configuring(f"{robot.name} aerial controller"):  # e.g. rotors that cannot lift it
+        ctrl = kl.AerialController(model(robot), cfg)
+    alloc = ctrl.allocation
+    rows = np.asarray(alloc.effectiveness if alloc.uses_lateral_rows else alloc.mixer)
+    f0 = np.asarray(alloc.collective_share) * ctrl.hover_thrust
+    hi = np.broadcast_to(np.asarray(cfg.rotors.thrust_max, dtype=float), f0.shape).copy()
+    return rows, f0, float(cfg.rotors.thrust_min), hi, ctrl
+
+
+def hover_weight_with(robot, efficiency) -> tuple[float, float]:
+    """([N] the largest weight the rotors can hold level with no torque left over, yaw included,
+    when rotor k gives efficiency[k] of its thrust and drag torque; [N] the vehicle's weight).
+    The arm at nominal: its moment about the body CoM is part of the torque to cancel."""
+    import kiloloop as kl
+
+    rows, _, lo, hi, ctrl = _allocation_rows(robot)
+    n = rows.shape[1]
+    A = rows * np.asarray(efficiency, dtype=float)[None, :]
+    weight = ctrl.hover_thrust
+    # Torque the rotors must give about the body CoM: gravity acts at the vehicle's CoM.
+    tau = np.cross(np.asarray(ctrl.vehicle_com) - np.asarray(ctrl.body_com), [0.0, 0.0, weight])
+    lateral = rows.shape[0] == 6
+    C, d = np.vstack([np.eye(n), -np.eye(n)]), np.concatenate([hi, -np.full(n, lo)])
+
+    def holds(scale: float) -> bool:
+        t = scale * tau
+        w = np.array([0.0, 0.0, scale * weight, *t]) if lateral else np.array([scale * weight, *t])
+        return kl.qp.solve(np.eye(n), np.zeros(n), A_eq=A, b_eq=w, C=C,
+                           d=d).status == kl.qp.QpStatus.OPTIMAL
+
+    low, high = 0.0, 16.0  # [weights]: a thrust/weight beyond 16 is reported as 16
+    if holds(high):
+        return high * weight, weight
+    for _ in range(40):  # bisection on the weight held (the feasible set is convex in it)
+        mid = 0.5 * (low + high)
+        low, high = (mid, high) if holds(mid) else (low, mid)
+    return low * weight, weight
+
+
+def bandwidths(robot) -> dict:
+    """[rad/s] attitude, position (horizontal), arm: derived unless [controller] sets them.
+    Attitude: 0.6 / tau_m, at most MAX_ATTITUDE_BANDWIDTH and at most 2 sqrt(alpha / theta), the
+    loop whose step response settles (91 %, 4 / w) no sooner than the rotors' margin alpha
+    (roll_pitch_authority) can turn the vehicle bang-bang (2 sqrt(theta / alpha)) through the
+    largest tilt step theta the position loop commands (tilt_limit, 0.6 rad): a faster loop asks
+    for torque the rotors do not have on every large step (a push) and rings in saturation."""
+    c = controller_settings(robot)
+    att = c.get("attitude_bandwidth")
+    if not att:
+        att = min(0.6 / time_constant(robot), MAX_ATTITUDE_BANDWIDTH,
+                  2.0 * math.sqrt(roll_pitch_authority(robot) / tilt_limit(robot)))
+    att = float(att)
     pos = float(c.get("position_bandwidth") or att / 5.0)
     arm = float(c.get("arm_bandwidth") or att)
     return {"attitude": att, "position": pos, "arm": arm}

@@ -2,6 +2,8 @@
 derived, and the plant built from the robot file."""
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 import kiloloop as kl
@@ -19,6 +21,7 @@ def summary(robot, model_) -> list[str]:
     rank = np.linalg.matrix_rank(alloc.effectiveness)
     hover = ctrl.hover_thrust
     bw = aerial.bandwidths(robot)
+    alpha = aerial.roll_pitch_authority(robot)
     given = set(aerial.controller_settings(robot))
     src = lambda k: "given" if k in given else "derived"  # noqa: E731
     return [
@@ -32,6 +35,9 @@ def summary(robot, model_) -> list[str]:
         f"{alloc.max_collective / hover:.3g}",
         f"    rotor time constant [s]    {aerial.time_constant(robot):.4g} (reaction lead "
         f"{cfg.reaction_lead:.4g} s, {src('reaction_lead')})",
+        f"    roll/pitch authority       {alpha:.4g} rad/s^2 at hover (the rotors' margin on the "
+        f"rigid inertia): the attitude bandwidth's bound 2 sqrt(alpha / tilt limit) = "
+        f"{2 * math.sqrt(alpha / aerial.tilt_limit(robot)):.4g} rad/s",
         f"    attitude bandwidth [rad/s] {bw['attitude']:.4g} ({src('attitude_bandwidth')}): "
         f"kp {_fmt(cfg.attitude.gains.kp)}, kd {_fmt(cfg.attitude.gains.kd)}",
         f"    position bandwidth [rad/s] {bw['position']:.4g} ({src('position_bandwidth')}): "

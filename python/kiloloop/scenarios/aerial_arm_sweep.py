@@ -28,7 +28,7 @@ from ..sil.aerial_signals import CONTROL_DT, REFERENCE_WIDTH, reference_row
 from ..sil.timing import whole_periods
 from .aerial_settings import COMMON_DEFAULTS, rig_from_settings
 from .aerial_metrics import add_derived, diverged, rotation_vector_error
-from ..errors import InputError
+from ..errors import InputError, ScenarioRefused
 from . import JUDGED_WINDOW, ScenarioResult, evaluate
 from .plots import AERIAL_ARM_SWEEP_PLOT
 
@@ -56,7 +56,7 @@ def derive(robot) -> dict:
 
     model = aerial_robot.model(robot)
     if not robot.section("vehicle").get("ee") or model.nq == 0:
-        return {"sweep_joint": -1, "amplitude": 0.0}
+        raise ScenarioRefused(f"{robot.name}: {NAME} sweeps an arm; {robot.name} has none")
     # The plant's start pose, chain order ([sim.joints] q0, else zero).
     q0 = robot.sim.get("joints", {}).get("q0")
     q = np.zeros(model.nq) if q0 is None else np.asarray(q0, dtype=float)
@@ -105,7 +105,7 @@ def _one(settings, feedforward, seed, duration, robot):
     rig = rig_from_settings(s, seed, robot=robot)
     hover = rig.hover_pos.copy()
     if rig.controller.nq == 0:
-        raise InputError(f"{NAME} needs an arm; {rig.robot.name} has none")
+        raise ScenarioRefused(f"{rig.robot.name}: {NAME} sweeps an arm; it has none")
     traj = sweep_trajectory(settings, rig.controller.nq, rig.plant.q0[rig.to_ctrl])
 
     def command(t, inp):

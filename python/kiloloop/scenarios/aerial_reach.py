@@ -9,7 +9,7 @@ import numpy as np
 
 import kiloloop as kl
 
-from ..errors import InputError
+from ..errors import ScenarioRefused
 from ..sil.aerial_signals import CONTROL_DT, reference_row
 from .aerial_settings import COMMON_DEFAULTS, rig_from_settings
 from .aerial_metrics import add_derived, diverged
@@ -29,6 +29,18 @@ CRITERIA = {"max_ee_error_m": ("<", 0.01), "diverged": ("<", 0.5)}
 # Settings' valid ranges (scenarios/__init__.py): a zero time or scale means nothing.
 LIMITS = {"t_start": (">=", 0.0), "t_move": (">", 0.0)}
 SIZES = {"q_start": "nq", "displacement": 3}  # [rad] per arm joint; [m] x, y, z
+
+
+def derive(robot) -> dict:
+    """Nothing to size; refuses an arm of fewer than 3 joints at start (the IK places the end
+    effector's position: 3 coordinates)."""
+    from ..robot import aerial as aerial_robot
+
+    nq = aerial_robot.model(robot).nq if robot.section("vehicle").get("ee") else 0
+    if nq < 3:
+        raise ScenarioRefused(f"{robot.name}: {NAME} places the end effector's position (3 "
+                              f"coordinates) with the arm's joints: it needs 3, the arm has {nq}")
+    return {}
 
 
 def min_duration(settings) -> float:
@@ -83,9 +95,10 @@ class CartesianLine:
 def run(settings: dict, seed: int = 0, duration: float | None = None,
         robot=None) -> ScenarioResult:
     rig = rig_from_settings(settings, seed, robot=robot)
-    if rig.controller.nq < 3:
-        raise InputError(f"{NAME} needs an arm of at least 3 joints (position IK); "
-                         f"{rig.robot.name} has {rig.controller.nq}")
+    if rig.controller.nq < 3:  # derive() refuses such a robot before this when run by name
+        raise ScenarioRefused(f"{rig.robot.name}: {NAME} places the end effector's position (3 "
+                              f"coordinates) with the arm's joints; its arm has "
+                              f"{rig.controller.nq}")
     rig.plant.reset(q=np.asarray(settings["q_start"], float)[np.argsort(rig.to_ctrl)])
     hover = rig.hover_pos.copy()
     p0, R0 = rig.plant.ee_pose()
