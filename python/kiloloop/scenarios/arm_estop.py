@@ -16,7 +16,7 @@ import numpy as np
 
 import kiloloop as kl
 
-from ..errors import configuring
+from ..errors import InputError, configuring
 from ..sil.arm_adapters import Supervised
 from ..sil.rig import Rig
 from .arm_controllers import controller
@@ -38,6 +38,7 @@ DEFAULTS = {
     "stopped_speed": 0.01,      # [rad/s] "stopped" when every |qd| is below this
 }
 CRITERIA = {
+    "stopped": (">=", 1),                       # every |qd| fell below stopped_speed
     "stop_time_over_plan_s": ("<", 0.05),       # stopped no later than planned + 50 ms
     "stop_distance_over_bound_rad": ("<", 0.01),  # no joint beyond qd^2/(2a) + 0.01 rad
     "hold_drift_rad": ("<", 1e-3),              # then holds
@@ -105,26 +106,30 @@ def run(settings: dict, seed: int = 0, duration: float | None = None,
     a = float(settings["stop_deceleration"])
     k0 = int(np.searchsorted(t, t_estop))
     metrics = {"trips_before_estop": int(np.sum(mode[:k0] != 0))}
-    pressed = k0 < len(t)  # the e-stop may lie beyond the simulated time
-    if pressed:
-        q0, v0 = q[k0], qd[k0]
-        planned = float(np.abs(v0).max() / a)
-        metrics.update({"speed_at_estop_rad_s": float(np.abs(v0).max()),
-                        "speed_at_estop_fraction": float(np.abs(v0).max() / cruise),
-                        "planned_stop_time_s": planned})
-    still = np.where(np.abs(qd[k0:]).max(axis=1) < settings["stopped_speed"])[0] if pressed else []
-    if len(still):
-        k1 = k0 + int(still[0])
-        stop_time = float(t[k1] - t[k0])
-        distance = np.abs(q[k1:] - q0).max(axis=0)  # furthest each joint got after the e-stop
-        bound = v0 ** 2 / (2 * a)
-        metrics.update({
-            "stop_time_s": stop_time,
-            "stop_time_over_plan_s": stop_time - planned,
-            "max_stop_distance_rad": float(distance.max()),
-            "stop_distance_over_bound_rad": float((distance - bound).max()),
-            "hold_drift_rad": float(np.abs(q[k1:] - q[k1]).max()),
-        })
+    if k0 >= len(t):  # the CLI's minimum duration prevents it; an API caller may not
+        raise InputError(f"{NAME}: the run ends at {t[-1]:.3f} s, before the e-stop at "
+                         f"{t_estop:.3f} s: no stop to judge")
+    q0, v0 = q[k0], qd[k0]
+    planned = float(np.abs(v0).max() / a)
+    metrics.update({"speed_at_estop_rad_s": float(np.abs(v0).max()),
+                    "speed_at_estop_fraction": float(np.abs(v0).max() / cruise),
+                    "planned_stop_time_s": planned})
+    still = np.where(np.abs(qd[k0:]).max(axis=1) < settings["stopped_speed"])[0]
+    # Never below stopped_speed: the stop is judged at the run's end, what it shows then (the
+    # time a lower bound, the drift that of the last JUDGED_WINDOW), and `stopped` fails.
+    k1 = k0 + int(still[0]) if len(still) else len(t) - 1
+    distance = np.abs(q[k1:] - q0).max(axis=0)  # furthest each joint got after the e-stop
+    bound = v0 ** 2 / (2 * a)
+    hold_from = k1 if len(still) else int(np.searchsorted(t, t[-1] - JUDGED_WINDOW))
+    metrics.update({
+        "stopped": int(len(still) > 0),
+        "speed_at_end_rad_s": float(np.abs(qd[-1]).max()),
+        "stop_time_s": float(t[k1] - t[k0]),
+        "stop_time_over_plan_s": float(t[k1] - t[k0]) - planned,
+        "max_stop_distance_rad": float(distance.max()),
+        "stop_distance_over_bound_rad": float((distance - bound).max()),
+        "hold_drift_rad": float(np.abs(q[hold_from:] - q[hold_from]).max()),
+    })
     metrics.update({
         "holding_at_end": int(mode[-1] == int(kl.SupervisorMode.HOLDING)),
         "estop_status_ticks": int(np.sum(log["status"] == int(kl.Status.EMERGENCY_STOP))),

@@ -19,7 +19,7 @@ import numpy as np
 
 import kiloloop as kl
 
-from ..errors import InputError
+from ..errors import InputError, ScenarioRefused
 from ..sil import arm_scene, native
 from ..sil.arm_adapters import JointTracking
 from ..sil.rig import Rig
@@ -174,6 +174,9 @@ def run(settings: dict, seed: int = 0, duration: float | None = None,
     robot = robot or kl.Robot.load("ur5")
     probe = Rig(robot)  # no obstacle yet: derives the targets on the bare arm
     model = probe.model
+    if not arm_scene.robot_geoms(probe.plant):
+        raise ScenarioRefused(f"{robot.name}: {NAME} checks the links against the box in MuJoCo, "
+                              f"and {robot.urdf.name} gives them no <collision> geometry")
     capsules = link_capsules(robot, model)
     settings = derive_targets(robot, model, capsules, probe.plant, settings)
     trajectory, result, checker = plan(model, capsules, settings, seed + 1)
