@@ -72,10 +72,49 @@ CRITERIA = {
 _CONES = {"elliptic": mujoco.mjtCone.mjCONE_ELLIPTIC, "pyramidal": mujoco.mjtCone.mjCONE_PYRAMIDAL}
 
 
-def _make_controller(model, settings):
+# The slide's motion axes hold the table's friction, friction * force against +x at the tool tip,
+# as a static error: Lambda_m K e = wrench on the motion axes m (x, y and the rotations; Lambda_m
+# the operational-space inertia there). kp_x is raised where the arm at its pressing pose is too
+# light to keep that error within STATIC_ERROR_SHARE of the max_x_error_m criterion (kd_x
+# critical, 2 sqrt(kp_x)); a heavier arm keeps the config's gains.
+STATIC_ERROR_SHARE = 0.25
+
+
+def task_inertia(model, q) -> np.ndarray:
+    """(6, 6) operational-space inertia (J M^-1 J^T)^-1 [kg; kg m^2] of the chain's tip at q, in
+    the chain root frame (a pseudo-inverse: a chain of fewer than 6 joints has no inertia along
+    the directions it cannot move)."""
+    dyn = kl.Dynamics(model)
+    J, M = dyn.jacobian(q), dyn.mass_matrix(q)
+    return np.linalg.pinv(J @ np.linalg.solve(M, J.T), rcond=1e-9)
+
+
+def slide_compliance(model, q0, contact) -> float:
+    """[m/s^2 per N] the x error times kp_x that a unit force against +x at `contact` (the tip's
+    contact point from the chain tip [m], root frame) leaves: (Lambda_m^-1 w)_x, w the force
+    and its moment about the chain tip, on the motion axes only (z is the force loop's)."""
+    motion = [0, 1, 3, 4, 5]
+    lam = task_inertia(model, q0)[np.ix_(motion, motion)]
+    force = np.array([-1.0, 0.0, 0.0])
+    w = np.concatenate([force, np.cross(contact, force)])[motion]
+    return abs(float(np.linalg.lstsq(lam, w, rcond=1e-9)[0][0]))
+
+
+def motion_gains(model, q0, settings, config, contact) -> tuple[np.ndarray, np.ndarray]:
+    """(kp, kd) of the config with kp_x raised where the table's friction asks for more."""
+    kp, kd = np.array(config.kp, dtype=float), np.array(config.kd, dtype=float)
+    friction = float(settings["friction"]) * float(settings["force"])  # [N]
+    allowed = STATIC_ERROR_SHARE * CRITERIA["max_x_error_m"][1]       # [m]
+    kp[0] = max(kp[0], friction * slide_compliance(model, q0, contact) / allowed)
+    kd[0] = max(kd[0], 2.0 * np.sqrt(kp[0]))
+    return kp, kd
+
+
+def _make_controller(model, settings, q0, contact):
     if settings["controller"] == "hybrid":
         config = kl.HybridForcePositionConfig()
         config.project_motion_wrench = bool(settings["project_motion_wrench"])
+        config.kp, config.kd = motion_gains(model, q0, settings, config, contact)
         for key in ("kf", "ki", "kv"):
             if len(settings[key]):
                 gains = np.array(getattr(config, key))
@@ -191,7 +230,10 @@ def run(settings: dict, seed: int = 0, duration: float | None = None,
     plant.q0 = q0
     plant.reset()
     with configuring(f"{NAME} controller"):
-        controller = _make_controller(model, settings)
+        # The tip's lowest point, where the table pushes, from the chain tip (root frame).
+        R_tip = kl.Dynamics(model).forward_kinematics(q0)[:3, :3]
+        contact = R_tip @ (np.asarray(tip.offset, float) + np.array([0.0, 0.0, tip.radius]))
+        controller = _make_controller(model, settings, q0, contact)
     # Chain root frame = world orientation (checked above): the task axes are the root's.
     T0 = kl.Dynamics(model).forward_kinematics(q0)
     p0, R0 = T0[:3, 3].copy(), T0[:3, :3].copy()
