@@ -23,7 +23,7 @@ from ..errors import InputError, configuring
 from ..sil import arm_scene, native
 from ..sil.arm_adapters import Press
 from ..sil.rig import Rig
-from .arm_targets import line_feasible, work_pose
+from .arm_targets import line_feasible, pose_reached, work_pose
 from . import JUDGED_WINDOW, ScenarioResult, evaluate
 from .plots import ARM_PRESS_PLOT
 
@@ -169,23 +169,33 @@ def press_pose(rig, settings) -> tuple[np.ndarray, float]:
     horizontal -= down * (horizontal @ down)
     azimuth = horizontal / max(np.linalg.norm(horizontal), 1e-9)
     height = -(T[:3, 3] - anchor) @ down
+    # An arm of fewer than 6 joints holds the tool down while it slides only where the slide runs
+    # through its first joint (its joints then move in the vertical plane of the slide): the
+    # pressing position lies on the x axis through the anchor, in front of or behind it.
+    # The tool's yaw about the vertical is then the chain's, not a choice: quarter turns tried.
+    x_root = np.array([1.0, 0.0, 0.0]) - down * down[0]
+    x_root /= np.linalg.norm(x_root)
+    azimuths = [azimuth] if model.nq >= 6 else [x_root, -x_root]
+    tools = [R_down] if model.nq >= 6 else [
+        np.column_stack([x, np.cross(down, x), down])
+        for x in (x_root, np.cross(down, x_root), -x_root, -np.cross(down, x_root))]
     best, best_score = None, -np.inf
-    for radius in PRESS_RADII:
-        for h in PRESS_HEIGHTS:
-            T_press = np.eye(4)
-            T_press[:3, :3] = R_down
-            T_press[:3, 3] = anchor + azimuth * radius * probe.reach - down * h * height
-            q0, status = ik.solve(T_press, q_work)
-            if int(status) < 0 or not line_feasible(model, q0, [slide, 0.0, 0.0],
-                                                    [0.0, 0.0, 0.0],
-                                                    float(settings["slide_time"]), probe=probe):
-                continue
-            probe.at(q0)
-            if probe.floor_clearance() < 0.02 * probe.reach:
-                continue
-            score = probe.conditioning()
-            if score > best_score:
-                best, best_score = q0, score
+    for radius, h, az, R_press in ((r, h, a, R) for r in PRESS_RADII for h in PRESS_HEIGHTS
+                                   for a in azimuths for R in tools):
+        T_press = np.eye(4)
+        T_press[:3, :3] = R_press
+        T_press[:3, 3] = anchor + az * radius * probe.reach - down * h * height
+        q0, status = ik.solve(T_press, q_work)
+        if int(status) < 0 or not pose_reached(dyn, q0, T_press) or not line_feasible(model, q0, [slide, 0.0, 0.0],
+                                                [0.0, 0.0, 0.0],
+                                                float(settings["slide_time"]), probe=probe):
+            continue
+        probe.at(q0)
+        if probe.floor_clearance() < 0.02 * probe.reach:
+            continue
+        score = probe.conditioning()
+        if score > best_score:
+            best, best_score = q0, score
     if best is None:
         raise InputError(f"{rig.robot.name}: no tool-down pose from which the IK can follow a "
                          f"{slide:.3f} m slide along +x")
