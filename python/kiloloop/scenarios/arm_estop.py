@@ -17,6 +17,7 @@ import numpy as np
 import kiloloop as kl
 
 from ..errors import InputError, configuring
+from ..robot import arm as arm_defaults
 from ..sil.arm_adapters import Supervised
 from ..sil.rig import Rig
 from .arm_controllers import controller
@@ -95,6 +96,14 @@ def run(settings: dict, seed: int = 0, duration: float | None = None,
     settings = dict(settings, q_start=q_start.tolist(), q_goal=q_goal.tolist(), t_estop=t_estop)
     config = kl.ArmSupervisorConfig()
     config.stop_deceleration = np.array([float(settings["stop_deceleration"])])
+    # The stop and hold are computed torque too: where friction raised the joint controller's
+    # bandwidth (robot/arm.py friction_bandwidth), the supervisor's gains follow (one for all
+    # joints: the highest, critically damped); a frictionless arm keeps the config's.
+    kp, _ = arm_defaults.joint_gains(robot, model, "computed_torque", q_start)
+    w = float(arm_defaults.controller_settings(robot)["bandwidth"])
+    if float(kp.max()) > max(w * w, config.stop_kp):
+        config.stop_kp = float(kp.max())
+        config.stop_kd = max(config.stop_kd, 2.0 * float(np.sqrt(config.stop_kp)))
     with configuring(f"{NAME} supervisor"):
         supervisor = kl.ArmSupervisor(model, config)
     reference = Supervised(controller(robot, model, "computed_torque", q_start), supervisor,
