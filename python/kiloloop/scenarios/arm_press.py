@@ -3,7 +3,8 @@
 Hybrid force/position control (C++): z is force-controlled (the wrench the tool applies on the
 table, from a MuJoCo force sensor between the tool tip and the flange), x, y and the orientation
 are motion-controlled (selection matrix diag(1, 1, 0, 1, 1, 1) in the world frame). The tool tip
-is a 1 cm sphere 3 cm below the flange, starting 1 mm above the table; after `settle` seconds the
+is a 1 cm sphere 3 cm below the flange (along the tip frame's axis closest to the last joint's:
+tool_axis), starting 1 mm above the table; after `settle` seconds the
 reference slides along x (10 cm on the UR5; 5 % of the reach unless the robot file says) on a
 quintic, with the table's Coulomb friction opposing it. Any arm: the pressing pose is the work
 pose turned tool-down by the IK (the UR5's robot file gives its own).
@@ -142,10 +143,36 @@ PRESS_RADII = (0.45, 0.55, 0.35, 0.65)
 PRESS_HEIGHTS = (1.0, 0.6, 1.4)  # of the work pose's tool height
 
 
+def tool_axis(model) -> np.ndarray:
+    """(3,) the chain tip frame's unit axis the tool points along: the one closest to the last
+    joint's axis (a flange turns about its own normal: z for UR's tool0 and Panda's link8, x for
+    Z1's link06), signed away from the last joint (+ when the tip sits on it)."""
+    dyn = kl.Dynamics(model)
+    q = np.clip(np.zeros(model.nq), model.lower, model.upper)
+    T, J = dyn.forward_kinematics(q), dyn.jacobian(q)
+    last = T[:3, :3].T @ J[3:, -1]
+    k = int(np.argmax(np.abs(last)))
+    axis = np.zeros(3)
+    axis[k] = 1.0
+    # The last joint's axis passes through its origin; where the tip lies along it decides.
+    return axis if last[k] > 0 else -axis
+
+
+def _z_to(axis) -> np.ndarray:
+    """(3, 3) a rotation taking +z onto the unit vector axis (the identity for +z)."""
+    z = np.array([0.0, 0.0, 1.0])
+    v, c = np.cross(z, axis), float(z @ axis)
+    if np.linalg.norm(v) < 1e-12:
+        return np.eye(3) if c > 0 else np.diag([1.0, -1.0, -1.0])
+    K = np.array([[0, -v[2], v[1]], [v[2], 0, -v[0]], [-v[1], v[0], 0]])
+    return np.eye(3) + K + K @ K / (1.0 + c)
+
+
 def press_pose(rig, settings) -> tuple[np.ndarray, float]:
-    """(q0 [rad], slide [m]): a pose with the tool's z axis pointing down, from which the IK can
-    follow the slide along +x: of the candidate tool positions (PRESS_RADII x PRESS_HEIGHTS, the
-    IK seeded from the work pose), the one whose 6 x n Jacobian is best conditioned."""
+    """(q0 [rad], slide [m]): a pose with the tool axis (tool_axis) pointing down, from which the
+    IK can follow the slide along +x: of the candidate tool positions (PRESS_RADII x
+    PRESS_HEIGHTS, the IK seeded from the work pose), the one whose 6 x n Jacobian is best
+    conditioned; when there is none, the tool's yaw in quarter turns and more IK seeds."""
     from .arm_targets import PoseProbe
 
     model = rig.model
@@ -161,7 +188,8 @@ def press_pose(rig, settings) -> tuple[np.ndarray, float]:
     if np.linalg.norm(x) < 1e-6:
         x = np.cross(down, [0.0, 1.0, 0.0])
     x /= np.linalg.norm(x)
-    R_down = np.column_stack([x, np.cross(down, x), down])
+    # The tool axis (tool_axis: the tip frame's z on most arms) pointing down.
+    R_down = np.column_stack([x, np.cross(down, x), down]) @ _z_to(tool_axis(model)).T
     # First joint's anchor in the root frame (= the work pose's FK minus the site's lever).
     anchor = R_world_root.T @ (probe.plant.data.xanchor[
         probe.plant.model.joint(probe.plant.joint_names[0]).id] - rig.T_world_root()[:3, 3])
@@ -175,20 +203,55 @@ def press_pose(rig, settings) -> tuple[np.ndarray, float]:
     # The tool's yaw about the vertical is then the chain's, not a choice: quarter turns tried.
     x_root = np.array([1.0, 0.0, 0.0]) - down * down[0]
     x_root /= np.linalg.norm(x_root)
-    azimuths = [azimuth] if model.nq >= 6 else [x_root, -x_root]
-    tools = [R_down] if model.nq >= 6 else [
-        np.column_stack([x, np.cross(down, x), down])
-        for x in (x_root, np.cross(down, x_root), -x_root, -np.cross(down, x_root))]
+    yaws = [np.column_stack([x, np.cross(down, x), down]) @ _z_to(tool_axis(model)).T
+            for x in (x_root, np.cross(down, x_root), -x_root, -np.cross(down, x_root))]
+    if model.nq >= 6:
+        best = _best_press_pose(rig, settings, slide, q_work, [azimuth], [R_down], anchor, height,
+                                down, [q_work])
+        if best is not None:
+            return best, slide
+        # Joint limits may forbid the work pose's azimuth or yaw (Z1's work pose reaches back over
+        # its shoulder, 175 deg round, its first joint turns 150) or trap the IK seeded there:
+        # the opposite azimuth, quarter turns of the yaw, seeds spread over the limits.
+        seeds = [q_work] + list(np.random.default_rng(PRESS_SEED).uniform(
+            np.maximum(model.lower, -np.pi), np.minimum(model.upper, np.pi),
+            (PRESS_SEEDS, model.nq)))
+        best = _best_press_pose(rig, settings, slide, q_work, [azimuth, -azimuth], yaws, anchor,
+                                height, down, seeds)
+    else:
+        best = _best_press_pose(rig, settings, slide, q_work, [x_root, -x_root], yaws, anchor,
+                                height, down, [q_work])
+    if best is None:
+        raise InputError(f"{rig.robot.name}: no tool-down pose from which the IK can follow a "
+                         f"{slide:.3f} m slide along +x")
+    return best, slide
+
+
+PRESS_SEED, PRESS_SEEDS = 5, 8  # IK seeds beyond the work pose, when it finds no pose
+
+
+def _best_press_pose(rig, settings, slide, q_work, azimuths, tools, anchor, height, down, seeds):
+    """The best-conditioned q0 among the candidate tool positions (PRESS_RADII x PRESS_HEIGHTS at
+    each azimuth) and orientations, the IK seeded from each seed, that reaches its pose, follows
+    the slide and keeps the links clear of the floor; None when none does."""
+    from .arm_targets import PoseProbe
+
+    model = rig.model
+    dyn, ik, probe = kl.Dynamics(model), kl.ArmIk(model), PoseProbe(rig.plant)
     best, best_score = None, -np.inf
     for radius, h, az, R_press in ((r, h, a, R) for r in PRESS_RADII for h in PRESS_HEIGHTS
                                    for a in azimuths for R in tools):
         T_press = np.eye(4)
         T_press[:3, :3] = R_press
         T_press[:3, 3] = anchor + az * radius * probe.reach - down * h * height
-        q0, status = ik.solve(T_press, q_work)
-        if int(status) < 0 or not pose_reached(dyn, q0, T_press) or not line_feasible(model, q0, [slide, 0.0, 0.0],
-                                                [0.0, 0.0, 0.0],
-                                                float(settings["slide_time"]), probe=probe):
+        for seed in seeds:
+            q0, status = ik.solve(T_press, seed)
+            if int(status) >= 0 and pose_reached(dyn, q0, T_press):
+                break
+        else:
+            continue
+        if not line_feasible(model, q0, [slide, 0.0, 0.0], [0.0, 0.0, 0.0],
+                             float(settings["slide_time"]), probe=probe):
             continue
         probe.at(q0)
         if probe.floor_clearance() < 0.02 * probe.reach:
@@ -196,10 +259,7 @@ def press_pose(rig, settings) -> tuple[np.ndarray, float]:
         score = probe.conditioning()
         if score > best_score:
             best, best_score = q0, score
-    if best is None:
-        raise InputError(f"{rig.robot.name}: no tool-down pose from which the IK can follow a "
-                         f"{slide:.3f} m slide along +x")
-    return best, slide
+    return best
 
 
 def reach_of(rig) -> float:
@@ -212,7 +272,9 @@ def run(settings: dict, seed: int = 0, duration: float | None = None,
         robot=None) -> ScenarioResult:
     del seed  # deterministic
     robot = robot or kl.Robot.load("ur5")
-    tip = arm_scene.ToolTip(parent=robot.section("chain")["tip"], friction=settings["friction"])
+    axis = tool_axis(robot.model())
+    tip = arm_scene.ToolTip(parent=robot.section("chain")["tip"], friction=settings["friction"],
+                            offset=tuple(float(v) for v in 0.02 * axis))
     # Where the tip starts decides where the table goes: its top `gap` below the tip sphere.
     probe = Rig(robot, scene=tip)
     model = probe.model
@@ -242,7 +304,7 @@ def run(settings: dict, seed: int = 0, duration: float | None = None,
     with configuring(f"{NAME} controller"):
         # The tip's lowest point, where the table pushes, from the chain tip (root frame).
         R_tip = kl.Dynamics(model).forward_kinematics(q0)[:3, :3]
-        contact = R_tip @ (np.asarray(tip.offset, float) + np.array([0.0, 0.0, tip.radius]))
+        contact = R_tip @ (np.asarray(tip.offset, float) + tip.radius * axis)
         controller = _make_controller(model, settings, q0, contact)
     # Chain root frame = world orientation (checked above): the task axes are the root's.
     T0 = kl.Dynamics(model).forward_kinematics(q0)
