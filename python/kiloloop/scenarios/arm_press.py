@@ -21,6 +21,7 @@ import numpy as np
 import kiloloop as kl
 
 from ..errors import InputError, configuring
+from ..robot import arm as arm_defaults
 from ..sil import arm_scene, native
 from ..sil.arm_adapters import Press
 from ..sil.rig import Rig
@@ -101,21 +102,32 @@ def slide_compliance(model, q0, contact) -> float:
     return abs(float(np.linalg.lstsq(lam, w, rcond=1e-9)[0][0]))
 
 
-def motion_gains(model, q0, settings, config, contact) -> tuple[np.ndarray, np.ndarray]:
-    """(kp, kd) of the config with kp_x raised where the table's friction asks for more."""
+def joint_friction_force(model, q0, coulomb) -> float:
+    """[N] the largest force along x at the chain tip that the joints' Coulomb friction [N m]
+    can hold against the motion (the Cartesian controllers do not compensate it): |J^+T|_x fc."""
+    J = kl.Dynamics(model).jacobian(q0)
+    return float(np.abs(np.linalg.pinv(J, rcond=1e-6).T[0]) @ coulomb)
+
+
+def motion_gains(model, q0, settings, config, contact,
+                 coulomb=None) -> tuple[np.ndarray, np.ndarray]:
+    """(kp, kd) of the config with kp_x raised where the table's friction, and the joints' own
+    (coulomb [N m] per joint, the robot's URDF), ask for more."""
     kp, kd = np.array(config.kp, dtype=float), np.array(config.kd, dtype=float)
     friction = float(settings["friction"]) * float(settings["force"])  # [N]
+    if coulomb is not None and np.any(coulomb > 0):
+        friction += joint_friction_force(model, q0, coulomb)
     allowed = STATIC_ERROR_SHARE * CRITERIA["max_x_error_m"][1]       # [m]
     kp[0] = max(kp[0], friction * slide_compliance(model, q0, contact) / allowed)
     kd[0] = max(kd[0], 2.0 * np.sqrt(kp[0]))
     return kp, kd
 
 
-def _make_controller(model, settings, q0, contact):
+def _make_controller(model, settings, q0, contact, coulomb=None):
     if settings["controller"] == "hybrid":
         config = kl.HybridForcePositionConfig()
         config.project_motion_wrench = bool(settings["project_motion_wrench"])
-        config.kp, config.kd = motion_gains(model, q0, settings, config, contact)
+        config.kp, config.kd = motion_gains(model, q0, settings, config, contact, coulomb)
         for key in ("kf", "ki", "kv"):
             if len(settings[key]):
                 gains = np.array(getattr(config, key))
@@ -305,7 +317,8 @@ def run(settings: dict, seed: int = 0, duration: float | None = None,
         # The tip's lowest point, where the table pushes, from the chain tip (root frame).
         R_tip = kl.Dynamics(model).forward_kinematics(q0)[:3, :3]
         contact = R_tip @ (np.asarray(tip.offset, float) + tip.radius * axis)
-        controller = _make_controller(model, settings, q0, contact)
+        coulomb = np.asarray(arm_defaults.joint_friction(robot, model).coulomb, float)
+        controller = _make_controller(model, settings, q0, contact, coulomb)
     # Chain root frame = world orientation (checked above): the task axes are the root's.
     T0 = kl.Dynamics(model).forward_kinematics(q0)
     p0, R0 = T0[:3, 3].copy(), T0[:3, :3].copy()
