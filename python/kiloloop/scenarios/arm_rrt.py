@@ -106,9 +106,10 @@ def derive_targets(robot, model, capsules, plant, settings) -> dict:
         if _fit_box(model, capsules, plant, out, q_start, q_goal):
             return out
     raise ScenarioRefused(
-        f"{robot.name}: {NAME} finds no box between start and goal that the links clear by the "
-        f"{s['margin']} m margin (link capsules up to {max(c.radius for c in capsules):.3f} m, "
-        f"reach {reach(plant):.3f} m; {len(starts)} start poses tried)")
+        f"{robot.name}: no box fits between start and goal: {NAME} finds none that the links "
+        f"clear by the {s['margin']} m margin (link capsules up to "
+        f"{max(c.radius for c in capsules):.3f} m, reach {reach(plant):.3f} m; {len(starts)} "
+        f"start poses tried)")
 
 
 START_CANDIDATES = 200  # seeded poses near the work pose tried when it leaves no room for a box
