@@ -82,6 +82,19 @@ void bind_model(py::module_& m) {
       .def_property_readonly("upper", &RobotModel::upper)
       .def_property_readonly("velocity_limit", &RobotModel::velocity_limit)
       .def_property_readonly("effort_limit", &RobotModel::effort_limit)
+      .def_property_readonly("armature", &RobotModel::armature,
+                             "(nq) [kg m^2] reflected rotor inertia of the chain joints")
+      .def(
+          "with_armature",
+          [](const RobotModel& self, const Eigen::VectorXd& armature) {
+            auto model = std::make_shared<RobotModel>();
+            std::string why;
+            raise_if_failed(self.with_armature(armature, model.get(), &why), why);
+            return model;
+          },
+          py::arg("armature"),
+          "A copy whose chain joints carry armature [kg m^2] (one per joint): every Dynamics\n"
+          "solver adds it to M's diagonal and a * qdd to the torque (MuJoCo's joint armature).")
       .def_property_readonly("has_chain", &RobotModel::has_chain)
       .def_property_readonly("root_name", &RobotModel::root_name)
       .def_property_readonly("tip_name", &RobotModel::tip_name)

@@ -1,6 +1,8 @@
 #include "kiloloop/model/robot_model.hpp"
 
 #include <algorithm>
+#include <cmath>
+#include <string>
 
 namespace kiloloop {
 namespace {
@@ -108,6 +110,52 @@ double RobotModel::total_mass() const {
   for (const auto& [name, el] : tree_.getSegments())
     mass += GetTreeElementSegment(el).getInertia().getMass();
   return mass;
+}
+
+Status RobotModel::with_armature(const Eigen::VectorXd& armature, RobotModel* out,
+                                 std::string* why) const {
+  auto fail = [&](const std::string& msg) {
+    if (why) *why = msg;
+    return Status::kModelError;
+  };
+  if (out == nullptr) return fail("RobotModel::with_armature: null output");
+  if (!has_chain_) return fail("armature: the model has no chain (give a tip link)");
+  if (armature.size() != nq())
+    return fail("armature: expected " + std::to_string(nq()) + " values (one per chain joint), got " +
+                std::to_string(armature.size()));
+  for (int i = 0; i < nq(); ++i)
+    if (!std::isfinite(armature[i]) || armature[i] < 0.0)
+      return fail("armature of joint '" + joint_names_[i] + "' must be finite and >= 0");
+  RobotModel m = *this;
+  KDL::Chain chain;
+  int i = 0;
+  for (const KDL::Segment& seg : chain_.segments) {
+    const KDL::Joint& j = seg.getJoint();
+    if (j.getType() == KDL::Joint::None) {
+      chain.addSegment(seg);
+      continue;
+    }
+    const bool axis = j.getType() == KDL::Joint::RotAxis || j.getType() == KDL::Joint::TransAxis;
+    const KDL::Joint with =
+        axis ? KDL::Joint(j.getName(), j.JointOrigin(), j.JointAxis(), j.getType(), 1.0, 0.0,
+                          armature[i], j.getDamping(), j.getStiffness())
+             : KDL::Joint(j.getName(), j.getType(), 1.0, 0.0, armature[i], j.getDamping(),
+                          j.getStiffness());
+    chain.addSegment(KDL::Segment(seg.getName(), with, seg.getFrameToTip(), seg.getInertia()));
+    ++i;
+  }
+  m.chain_ = chain;
+  *out = std::move(m);
+  return Status::kOk;
+}
+
+Eigen::VectorXd RobotModel::armature() const {
+  Eigen::VectorXd a = Eigen::VectorXd::Zero(nq());
+  if (!has_chain_) return a;
+  int i = 0;
+  for (const KDL::Segment& seg : chain_.segments)
+    if (seg.getJoint().getType() != KDL::Joint::None) a[i++] = seg.getJoint().getInertia();
+  return a;
 }
 
 }  // namespace kiloloop

@@ -2,8 +2,13 @@
 
 - start pose: [sim.joints] q0 or [chain] q0 if given, else zero moved inside the limits;
 - work pose: a well-conditioned pose near the start pose (Cartesian scenarios start there);
-- joint gains: a target bandwidth (rad/s) and damping ratio, scaled by the mass matrix where the
-  control law needs it (PD + gravity), or exact (computed torque);
+- rotor inertia (armature): [sim.joints] armature if given, else the geared actuator's reflected
+  rotor inertia where the URDF declares the joint's losses (<dynamics> damping or friction), 0
+  where it declares none (an ideal torque source: the plant is the URDF's rigid body);
+- joint gains: a target bandwidth (rad/s) and damping ratio, scaled by the mass matrix (the
+  armature on its diagonal) where the control law needs it (PD + gravity), or exact (computed
+  torque, whose model carries the armature too: Robot.model()); the bandwidth raised on joints
+  whose Coulomb friction would otherwise hold them off the reference (friction_bandwidth);
 - reach (scenarios/arm_targets.py, from the plant's geometry): the scale of every Cartesian
   size a scenario derives.
 """
@@ -82,19 +87,65 @@ def controller_settings(robot) -> dict:
     return out
 
 
+# A geared joint's rotor: the time [s] its motor's peak torque takes to spin the rotor alone from
+# rest to top speed, J_m w_m / tau_m. It does not depend on the gear ratio N (the joint sees
+# N^2 J_m, N tau_m and w_m / N), so the reflected inertia follows from the joint's own limits:
+# armature = effort * ROTOR_ACCELERATION_TIME / velocity. 5 ms: servo motors' datasheets give
+# 1-10 ms (e.g. maxon EC 45 flat, 135 g cm^2, 1.5 N m stall, 460 rad/s: 4 ms); UR5's
+# harmonic-drive joints (models/ur5/robot.toml: armature 0.4 kg m^2 at 150 N m, 3.15 rad/s) give 8.
+ROTOR_ACCELERATION_TIME = 0.005
+
+
+def armature(robot, model) -> np.ndarray:
+    """(nq,) [kg m^2] reflected rotor inertia of each chain joint, which the plant adds to M's
+    diagonal and the controllers' gains account for: [sim.joints] armature when the file gives it;
+    else, where the URDF declares the joint's losses (<dynamics> damping or friction > 0: a geared
+    actuator, whose rotor the rigid-body URDF omits), effort * ROTOR_ACCELERATION_TIME / velocity
+    (0 without finite limits); 0 where it declares none (an ideal torque source)."""
+    given = robot.section("sim").get("joints", {}).get("armature")
+    if given is not None:
+        return per_joint(robot, "sim.joints.armature", given, model.nq)
+    losses = urdf_dynamics(robot)
+    effort, velocity = np.asarray(model.effort_limit, float), np.asarray(model.velocity_limit, float)
+    declared = np.array([sum(losses.get(n, (0.0, 0.0))) > 0.0 for n in model.joint_names])
+    limited = np.isfinite(effort) & np.isfinite(velocity) & (velocity > 0.0)
+    rotor = np.where(limited, effort * ROTOR_ACCELERATION_TIME / np.where(limited, velocity, 1.0),
+                     0.0)
+    return np.where(declared, rotor, 0.0)
+
+
+# Where a joint's Coulomb friction dominates its inertia: a stuck joint holds an error up to
+# friction / kp, so its bandwidth is raised until that band is at most STICK_BAND [rad], up to
+# MAX_BANDWIDTH [rad/s] (a quarter of the 1 kHz control rate: the measurement is a tick old).
+STICK_BAND = 2e-4
+MAX_BANDWIDTH = 250.0
+
+
+def friction_bandwidth(w: float, coulomb: np.ndarray, inertia: np.ndarray) -> np.ndarray:
+    """(nq,) [rad/s] w, raised per joint to sqrt(coulomb / (STICK_BAND inertia)) where that is
+    higher (at most MAX_BANDWIDTH); w where the joint has no Coulomb friction."""
+    needed = np.sqrt(coulomb / (STICK_BAND * np.maximum(inertia, 1e-12)))
+    return np.where(coulomb > 0, np.clip(needed, w, max(w, MAX_BANDWIDTH)), w)
+
+
 def joint_gains(robot, model, law: str, q: np.ndarray, dynamics=None):
     """(kp, kd) per joint. computed_torque: kp = w^2, kd = 2 zeta w (unit-mass error dynamics);
-    pd_gravity: the same bandwidth on the diagonal of M(q). Explicit kp/kd in [controller] win."""
+    pd_gravity: the same bandwidth on the diagonal of M(q), the armature included (the model
+    carries it: Robot.model()). w is raised on joints whose compensated Coulomb friction would
+    hold more than STICK_BAND (friction_bandwidth). Explicit kp/kd in [controller] win."""
+    import kiloloop as kl
+
     c = controller_settings(robot)
     w, zeta = float(c["bandwidth"]), float(c["damping_ratio"])
-    if law == "computed_torque":
+    coulomb = np.asarray(joint_friction(robot, model).coulomb, float)
+    if law == "computed_torque" and not coulomb.any():
         kp, kd = np.full(model.nq, w * w), np.full(model.nq, 2.0 * zeta * w)
     else:
-        import kiloloop as kl
-
         dyn = dynamics or kl.Dynamics(model)
         m = np.diag(dyn.mass_matrix(q))
-        kp, kd = m * w * w, m * 2.0 * zeta * w
+        w = friction_bandwidth(w, coulomb * np.ones(model.nq), m)
+        unit = np.ones(model.nq) if law == "computed_torque" else m
+        kp, kd = unit * w * w, unit * 2.0 * zeta * w
     if "kp" in c:
         kp = per_joint(robot, "controller.kp", c["kp"], model.nq)
     if "kd" in c:

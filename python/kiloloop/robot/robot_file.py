@@ -18,6 +18,7 @@ from typing import Callable
 from ..errors import InputError
 from . import joint_limits, schema
 from .aerial import model as aerial_model
+from .arm import armature as arm_armature
 from .errors import RobotFileError
 from .urdf_doc import UrdfDoc, read as read_urdf
 
@@ -233,10 +234,16 @@ class Robot:
             locked = {k: float(v) for k, v in chain.get("locked", {}).items()}
             try:
                 if locked:
-                    return _core.RobotModel.from_urdf(urdf, chain["root"], chain["tip"], locked)
-                return _core.RobotModel.from_urdf(urdf, chain["root"], chain["tip"])
+                    model = _core.RobotModel.from_urdf(urdf, chain["root"], chain["tip"], locked)
+                else:
+                    model = _core.RobotModel.from_urdf(urdf, chain["root"], chain["tip"])
             except (ValueError, RuntimeError) as e:
                 raise RobotFileError(f"{self.path}: {e}") from None
+            # The joints' rotor inertia, as the plant has it (robot/arm.py armature()): every
+            # controller's dynamics then holds what the plant's does. Without any: the URDF's
+            # rigid body, bit for bit.
+            rotor = arm_armature(self, model)
+            return model.with_armature(rotor) if rotor.any() else model
         if self.kind == "aerial":
             return aerial_model(self)  # the arm's chain base -> ee, or the whole tree (no arm)
         try:

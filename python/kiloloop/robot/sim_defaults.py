@@ -13,8 +13,10 @@ from __future__ import annotations
 ARM = {
     "physics": {"timestep": 0.001, "integrator": "implicitfast",
                 "gravity": [0.0, 0.0, -9.81], "floor": True},
-    # None: the URDF's <dynamics> damping / friction (0 where it has none).
-    "joints": {"damping": None, "frictionloss": None, "armature": 0.0, "q0": None},
+    # damping, frictionloss None: the URDF's <dynamics> damping / friction (0 where it has none).
+    # armature None: derived (robot/arm.py armature(): a geared actuator's reflected rotor inertia
+    # where the URDF declares the joint's losses, else 0).
+    "joints": {"damping": None, "frictionloss": None, "armature": None, "q0": None},
     "actuators": {"type": "motor"},
     # body None: the chain's tip link (the robot file's [chain] tip).
     "ee": {"body": None, "site": "ee_site"},

@@ -28,9 +28,14 @@ def summary(robot, model) -> list[str]:
         f"    start pose q0 [rad]        {_fmt(q0)}",
         f"    work pose [rad]            {_fmt(qw)}",
         f"    reach [m]                  {reach(plant):.4g}",
-        f"    computed torque kp, kd     {kp[0]:.4g}, {kd[0]:.4g} (bandwidth "
-        f"{arm.controller_settings(robot)['bandwidth']:.4g} rad/s)",
+        (f"    computed torque kp, kd     {kp[0]:.4g}, {kd[0]:.4g} (bandwidth "
+         f"{arm.controller_settings(robot)['bandwidth']:.4g} rad/s)" if np.all(kp == kp[0]) else
+         f"    computed torque kp         {_fmt(kp)} (bandwidth raised where friction holds "
+         f"more than {arm.STICK_BAND:g} rad)"),
         f"    PD + gravity kp            {_fmt(kp_pd)}",
+        f"    rotor inertia [kg m^2]     {_fmt(model.armature)}"
+        + ("" if robot.section("sim").get("joints", {}).get("armature") is not None
+           else " (derived where the URDF declares losses)"),
         f"    friction compensated       viscous {_fmt(arm.joint_friction(robot, model).viscous)}, "
         f"Coulomb {_fmt(arm.joint_friction(robot, model).coulomb)}",
         f"    IK solver                  {solver}" + (f" ({why})" if why else ""),

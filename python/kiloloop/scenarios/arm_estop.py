@@ -17,6 +17,7 @@ import numpy as np
 import kiloloop as kl
 
 from ..errors import configuring
+from ..robot import arm as arm_defaults
 from ..sil.arm_adapters import Supervised
 from ..sil.rig import Rig
 from .arm_controllers import controller
@@ -38,6 +39,7 @@ DEFAULTS = {
     "stopped_speed": 0.01,      # [rad/s] "stopped" when every |qd| is below this
 }
 CRITERIA = {
+    "stopped": (">=", 1),                       # every |qd| fell below stopped_speed
     "stop_time_over_plan_s": ("<", 0.05),       # stopped no later than planned + 50 ms
     "stop_distance_over_bound_rad": ("<", 0.01),  # no joint beyond qd^2/(2a) + 0.01 rad
     "hold_drift_rad": ("<", 1e-3),              # then holds
@@ -82,6 +84,31 @@ def min_duration(settings, robot=None) -> float:
     return t_estop + stop + CRITERIA["stop_time_over_plan_s"][1] + JUDGED_WINDOW
 
 
+def _stop_metrics(t, q, qd, k0: int, a: float, cruise: float, settings) -> dict:
+    """The stop's figures from the e-stop tick k0 on (ground truth q, qd). Never below
+    stopped_speed: judged at the run's end (the time a lower bound, the drift that of the last
+    JUDGED_WINDOW), and `stopped` is 0."""
+    q0, v0 = q[k0], qd[k0]
+    planned = float(np.abs(v0).max() / a)
+    still = np.where(np.abs(qd[k0:]).max(axis=1) < settings["stopped_speed"])[0]
+    k1 = k0 + int(still[0]) if len(still) else len(t) - 1
+    distance = np.abs(q[k1:] - q0).max(axis=0)  # furthest each joint got after the e-stop
+    bound = v0 ** 2 / (2 * a)
+    hold_from = k1 if len(still) else int(np.searchsorted(t, t[-1] - JUDGED_WINDOW))
+    return {
+        "speed_at_estop_rad_s": float(np.abs(v0).max()),
+        "speed_at_estop_fraction": float(np.abs(v0).max() / cruise),
+        "planned_stop_time_s": planned,
+        "stopped": int(len(still) > 0),
+        "speed_at_end_rad_s": float(np.abs(qd[-1]).max()),
+        "stop_time_s": float(t[k1] - t[k0]),
+        "stop_time_over_plan_s": float(t[k1] - t[k0]) - planned,
+        "max_stop_distance_rad": float(distance.max()),
+        "stop_distance_over_bound_rad": float((distance - bound).max()),
+        "hold_drift_rad": float(np.abs(q[hold_from:] - q[hold_from]).max()),
+    }
+
+
 def run(settings: dict, seed: int = 0, duration: float | None = None,
         robot=None) -> ScenarioResult:
     del seed  # deterministic
@@ -94,6 +121,14 @@ def run(settings: dict, seed: int = 0, duration: float | None = None,
     settings = dict(settings, q_start=q_start.tolist(), q_goal=q_goal.tolist(), t_estop=t_estop)
     config = kl.ArmSupervisorConfig()
     config.stop_deceleration = np.array([float(settings["stop_deceleration"])])
+    # The stop and hold are computed torque too: where friction raised the joint controller's
+    # bandwidth (robot/arm.py friction_bandwidth), the supervisor's gains follow (one for all
+    # joints: the highest, critically damped); a frictionless arm keeps the config's.
+    kp, _ = arm_defaults.joint_gains(robot, model, "computed_torque", q_start)
+    w = float(arm_defaults.controller_settings(robot)["bandwidth"])
+    if float(kp.max()) > max(w * w, config.stop_kp):
+        config.stop_kp = float(kp.max())
+        config.stop_kd = max(config.stop_kd, 2.0 * float(np.sqrt(config.stop_kp)))
     with configuring(f"{NAME} supervisor"):
         supervisor = kl.ArmSupervisor(model, config)
     reference = Supervised(controller(robot, model, "computed_torque", q_start), supervisor,
@@ -105,26 +140,11 @@ def run(settings: dict, seed: int = 0, duration: float | None = None,
     a = float(settings["stop_deceleration"])
     k0 = int(np.searchsorted(t, t_estop))
     metrics = {"trips_before_estop": int(np.sum(mode[:k0] != 0))}
-    pressed = k0 < len(t)  # the e-stop may lie beyond the simulated time
+    pressed = k0 < len(t)  # the CLI's minimum duration sees it is; an API caller may not
     if pressed:
-        q0, v0 = q[k0], qd[k0]
-        planned = float(np.abs(v0).max() / a)
-        metrics.update({"speed_at_estop_rad_s": float(np.abs(v0).max()),
-                        "speed_at_estop_fraction": float(np.abs(v0).max() / cruise),
-                        "planned_stop_time_s": planned})
-    still = np.where(np.abs(qd[k0:]).max(axis=1) < settings["stopped_speed"])[0] if pressed else []
-    if len(still):
-        k1 = k0 + int(still[0])
-        stop_time = float(t[k1] - t[k0])
-        distance = np.abs(q[k1:] - q0).max(axis=0)  # furthest each joint got after the e-stop
-        bound = v0 ** 2 / (2 * a)
-        metrics.update({
-            "stop_time_s": stop_time,
-            "stop_time_over_plan_s": stop_time - planned,
-            "max_stop_distance_rad": float(distance.max()),
-            "stop_distance_over_bound_rad": float((distance - bound).max()),
-            "hold_drift_rad": float(np.abs(q[k1:] - q[k1]).max()),
-        })
+        metrics.update(_stop_metrics(t, q, qd, k0, a, cruise, settings))
+    else:  # no stop to judge: `stopped` fails, the stop's own criteria are not evaluated
+        metrics["stopped"] = 0
     metrics.update({
         "holding_at_end": int(mode[-1] == int(kl.SupervisorMode.HOLDING)),
         "estop_status_ticks": int(np.sum(log["status"] == int(kl.Status.EMERGENCY_STOP))),
@@ -132,7 +152,9 @@ def run(settings: dict, seed: int = 0, duration: float | None = None,
         "min_manipulability": float(np.min(log["manipulability"])),
         "ticks": int(len(t)),
     })
-    return ScenarioResult(NAME, metrics, evaluate(CRITERIA, metrics), log, dict(settings))
+    # Without an e-stop in the run only `stopped` and what needs no stop are judged (never NaN).
+    judged = {k: c for k, c in CRITERIA.items() if k in metrics}
+    return ScenarioResult(NAME, metrics, evaluate(judged, metrics), log, dict(settings))
 
 
 def plot_signals():

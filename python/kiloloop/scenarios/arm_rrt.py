@@ -19,7 +19,7 @@ import numpy as np
 
 import kiloloop as kl
 
-from ..errors import InputError
+from ..errors import InputError, ScenarioRefused
 from ..sil import arm_scene, native
 from ..sil.arm_adapters import JointTracking
 from ..sil.rig import Rig
@@ -79,23 +79,78 @@ def make_checker(model, capsules, settings):
 
 
 def derive_targets(robot, model, capsules, plant, settings) -> dict:
-    """Start, goal and box for a robot (what the settings leave empty)."""
+    """Start, goal and box for a robot (what the settings leave empty). A derived start is the
+    work pose (clear of the floor); when no box fits between it and its goal, the seeded poses
+    near it that reach further out (START_CANDIDATES, the tool's distance from the first joint's
+    axis first: the arc the arm sweeps, which the box must block, is longer there)."""
     s = dict(settings)
     if s["floor_z"] in (None, "", "none"):
         s["floor_z"] = _floor_below_fixed_links(plant, capsules, float(s["margin"]))
-    q_start = np.asarray(s["q_start"], float) if len(s["q_start"]) else _planner_clear(
+    given = bool(len(s["q_start"]))
+    q_work = np.asarray(s["q_start"], float) if given else _planner_clear(
         model, capsules, work_pose(robot, model, plant), s)
-    if not len(s["q_goal"]):
-        q_goal = q_start.copy()
-        lo, up = np.asarray(model.lower)[0], np.asarray(model.upper)[0]
-        q_goal[0] = q_start[0] + ROTATION if q_start[0] + ROTATION <= up else q_start[0] - ROTATION
-        if q_goal[0] < lo:
-            raise InputError(f"{robot.name}: the first joint cannot turn {ROTATION} rad")
-    else:
-        q_goal = np.asarray(s["q_goal"], float)
-    s["q_start"], s["q_goal"] = q_start.tolist(), q_goal.tolist()
-    if len(s["box_center"]) and len(s["box_half_extents"]):
-        return s
+    starts = [q_work]
+    if not given and not len(s["q_goal"]):
+        starts += _further_out(model, capsules, plant, q_work, s)
+    for k, q_start in enumerate(starts):
+        try:
+            q_goal = _goal(robot, model, q_start) if not len(s["q_goal"]) else np.asarray(
+                s["q_goal"], float)
+        except ScenarioRefused:
+            if k == 0:
+                raise
+            continue  # a candidate start whose first joint cannot turn: the next one
+        out = dict(s, q_start=q_start.tolist(), q_goal=q_goal.tolist())
+        if len(s["box_center"]) and len(s["box_half_extents"]):
+            return out
+        if _fit_box(model, capsules, plant, out, q_start, q_goal):
+            return out
+    raise ScenarioRefused(
+        f"{robot.name}: no box fits between start and goal: {NAME} finds none that the links "
+        f"clear by the {s['margin']} m margin (link capsules up to "
+        f"{max(c.radius for c in capsules):.3f} m, reach {reach(plant):.3f} m; {len(starts)} "
+        f"start poses tried)")
+
+
+START_CANDIDATES = 200  # seeded poses near the work pose tried when it leaves no room for a box
+
+
+def _further_out(model, capsules, plant, q_work, settings) -> list:
+    """Seeded planner-clear poses near q_work (offsets within the limits, at most 1 rad per
+    joint), those whose tool lies further from the first joint's axis than q_work's first."""
+    from ..robot import arm as arm_defaults
+
+    dyn = kl.Dynamics(model)
+    far = dict(settings, box_center=[1e3, 1e3, 1e3], box_half_extents=[0.1, 0.1, 0.1])
+    checker = make_checker(model, capsules, far)
+
+    def radius(q):
+        p = dyn.forward_kinematics(q)[:3, 3]
+        return float(np.hypot(p[0], p[1]))
+
+    down, up = arm_defaults.joint_range(model, q_work)
+    rng = np.random.default_rng(11)
+    scored = []
+    for _ in range(START_CANDIDATES):
+        q = q_work + rng.uniform(-down, up)
+        if checker.clearance(q) > 0 and radius(q) > radius(q_work):
+            scored.append((radius(q), q))
+    return [q for _, q in sorted(scored, key=lambda rq: -rq[0])][:20]
+
+
+def _goal(robot, model, q_start) -> np.ndarray:
+    q_goal = q_start.copy()
+    lo, up = np.asarray(model.lower)[0], np.asarray(model.upper)[0]
+    q_goal[0] = q_start[0] + ROTATION if q_start[0] + ROTATION <= up else q_start[0] - ROTATION
+    if q_goal[0] < lo:
+        raise ScenarioRefused(f"{robot.name}: {NAME} turns the first joint by {ROTATION} rad; its "
+                              f"range is {up - lo:.3f} rad")
+    return q_goal
+
+
+def _fit_box(model, capsules, plant, s, q_start, q_goal) -> bool:
+    """Sets s's box: standing on the floor under the tool's mid-path position, as high as the
+    tool, BOX_WIDTH of the reach wide, shrunk until start and goal clear it; False if none."""
     dyn = kl.Dynamics(model)
     tool = dyn.forward_kinematics(0.5 * (q_start + q_goal))[:3, 3]
     half = BOX_WIDTH * reach(plant)
@@ -105,11 +160,11 @@ def derive_targets(robot, model, capsules, plant, settings) -> dict:
         s["box_half_extents"] = [half, half, height / 2.0]
         checker = make_checker(model, capsules, s)
         if checker.clearance(q_start) > 0 and checker.clearance(q_goal) > 0:
-            return s
+            return True
         half *= 0.7
         tool = tool.copy()
         tool[2] *= 0.8
-    raise InputError(f"{robot.name}: no box fits between start and goal")
+    return False
 
 
 def _floor_below_fixed_links(plant, capsules, margin: float) -> float:
@@ -174,6 +229,9 @@ def run(settings: dict, seed: int = 0, duration: float | None = None,
     robot = robot or kl.Robot.load("ur5")
     probe = Rig(robot)  # no obstacle yet: derives the targets on the bare arm
     model = probe.model
+    if not arm_scene.robot_geoms(probe.plant):
+        raise ScenarioRefused(f"{robot.name}: {NAME} checks the links against the box in MuJoCo, "
+                              f"and {robot.urdf.name} gives them no <collision> geometry")
     capsules = link_capsules(robot, model)
     settings = derive_targets(robot, model, capsules, probe.plant, settings)
     trajectory, result, checker = plan(model, capsules, settings, seed + 1)

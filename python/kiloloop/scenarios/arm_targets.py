@@ -175,6 +175,9 @@ LINE_DIRECTIONS = ([0.6, 0.8, -0.6], [-0.6, 0.8, -0.6], [0.6, -0.8, -0.6], [0.0,
 LINE_ROTATION_AXES = ([0.0, 0.6, 0.8], [0.8, 0.0, 0.6], [0.6, 0.8, 0.0])
 LINE_LENGTH = 0.2    # of the reach
 LINE_ROTATION = 0.5  # [rad]
+# The IK's pose residual [m], [rad] above which a line's sample counts as unreachable (an arm of
+# fewer than 6 joints: the least-squares IK converges, off the pose).
+IK_RESIDUAL = (1e-4, 1e-3)
 
 
 def _rotvec_matrix(w) -> np.ndarray:
@@ -186,6 +189,13 @@ def _rotvec_matrix(w) -> np.ndarray:
         mujoco.mju_axisAngle2Quat(q, w / angle, angle)
     mujoco.mju_quat2Mat(R, q)
     return R.reshape(3, 3)
+
+
+def pose_reached(dyn, q, T) -> bool:
+    """True when the chain's tip at q is at the pose T within IK_RESIDUAL."""
+    reached = dyn.forward_kinematics(q)
+    return bool(np.linalg.norm(reached[:3, 3] - T[:3, 3]) <= IK_RESIDUAL[0]
+                and _angle(reached[:3, :3].T @ T[:3, :3]) <= IK_RESIDUAL[1])
 
 
 def line_feasible(model, q0, displacement, rotation, duration: float, samples: int = 50,
@@ -211,6 +221,8 @@ def line_feasible(model, q0, displacement, rotation, duration: float, samples: i
         q_next, status = ik.solve(T, q)
         if int(status) < 0 or np.any(np.abs(q_next - q) > max_step):
             return False
+        if not pose_reached(dyn, q_next, T):
+            return False
         J = dyn.jacobian(q_next)
         J = np.vstack([J[:3], J[3:] * length])
         sv = np.linalg.svd(J, compute_uv=False)
@@ -224,20 +236,47 @@ def line_feasible(model, q0, displacement, rotation, duration: float, samples: i
     return True
 
 
+def _angle(R: np.ndarray) -> float:
+    """Rotation angle of R [rad]."""
+    s = 0.5 * np.linalg.norm([R[2, 1] - R[1, 2], R[0, 2] - R[2, 0], R[1, 0] - R[0, 1]])
+    return float(np.arctan2(s, (np.trace(R) - 1.0) / 2.0))
+
+
+def reachable_motion(model, q0, d, r) -> tuple[np.ndarray, np.ndarray]:
+    """(d, r) as given for a chain of 6 joints or more; for fewer, the part of the twist [d; r]
+    the chain can make at q0 (projected onto its Jacobian's range, rotations weighed by the tool's
+    distance from the root), scaled back to d's length: a 5-joint arm's tool moves in 5 of the 6
+    pose dimensions, so a line in an arbitrary direction and rotation leaves its reach."""
+    if model.nq >= 6:
+        return d, r
+    dyn = kl.Dynamics(model)
+    length = max(float(np.linalg.norm(dyn.forward_kinematics(q0)[:3, 3])), 1e-3)
+    J = dyn.jacobian(q0)
+    J = np.vstack([J[:3], J[3:] * length])
+    twist = J @ np.linalg.lstsq(J, np.concatenate([d, r * length]), rcond=1e-9)[0]
+    d_made, r_made = twist[:3], twist[3:] / length
+    scale = np.linalg.norm(d) / max(float(np.linalg.norm(d_made)), 1e-12)
+    return d_made * scale, r_made * scale
+
+
 def line_target(rig, q0, duration: float) -> tuple[np.ndarray, np.ndarray]:
     """(displacement [m], rotation vector [rad]) of a derived Cartesian line from the pose at q0:
     LINE_LENGTH of the reach along the first feasible LINE_DIRECTIONS entry, LINE_ROTATION about
-    the first feasible axis (halved up to twice when nothing is feasible)."""
+    the first feasible axis (halved up to twice when nothing is feasible); for an arm of fewer
+    than 6 joints, the part of each the arm can make (reachable_motion), and no rotation last."""
     probe = PoseProbe(rig.plant)
     length = LINE_LENGTH * probe.reach
     for scale in (1.0, 0.5, 0.25):
         for direction in LINE_DIRECTIONS:
             d = np.asarray(direction, dtype=float)
             d = scale * length * d / np.linalg.norm(d)
-            for axis in LINE_ROTATION_AXES:
-                r = scale * LINE_ROTATION * np.asarray(axis, dtype=float) / np.linalg.norm(axis)
-                if line_feasible(rig.model, q0, d, r, duration, probe=probe):
-                    return d, r
+            # Fewer than 6 joints: a pure translation last (the rotation may need what is missing).
+            for axis in LINE_ROTATION_AXES + (() if rig.model.nq >= 6 else ([0.0, 0.0, 0.0],)):
+                r = scale * LINE_ROTATION * np.asarray(axis, dtype=float) / (
+                    np.linalg.norm(axis) or 1.0)
+                d_made, r_made = reachable_motion(rig.model, q0, d, r)
+                if line_feasible(rig.model, q0, d_made, r_made, duration, probe=probe):
+                    return d_made, r_made
     raise InputError(f"{rig.robot.name}: no feasible Cartesian line from the work pose")
 
 

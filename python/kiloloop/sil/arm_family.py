@@ -41,6 +41,8 @@ def build_plant(robot, *, scene=None, visual: bool = False, timestep=None, dampi
     model = robot.model()
     sim = robot.sim
     sim.setdefault("ee", {}).setdefault("body", robot.section("chain")["tip"])
+    # The rotor inertia the controllers' gains account for (given or derived, robot/arm.py).
+    sim.setdefault("joints", {})["armature"] = arm_defaults.armature(robot, model).tolist()
     plant = MujocoPlant(robot.urdf_doc, sim, timestep=timestep, damping=damping,
                         frictionloss=frictionloss, armature=armature, scene=scene,
                         joints=list(model.joint_names),

@@ -41,6 +41,15 @@ class RobotModel {
                        const std::map<std::string, JointLimit>& limits, RobotModel* out,
                        std::string* why);
 
+  // A copy whose chain joints carry reflected rotor inertia (armature) [kg m^2], one finite value
+  // >= 0 per joint: KDL's joint inertia, which every Dynamics solver (KDL's RNE and ChainDynParam,
+  // ChainRne) adds to M's diagonal and as a * qdd to the torque; the plant's MuJoCo armature. The
+  // tree is kept as loaded. Needs a chain; the chain's joints must have scale 1 and offset 0 (all
+  // that the URDF and DH builders make). Fails naming the joint.
+  Status with_armature(const Eigen::VectorXd& armature, RobotModel* out, std::string* why) const;
+  // (nq) [kg m^2] the chain joints' armature (zeros unless with_armature set it).
+  Eigen::VectorXd armature() const;
+
   int nq() const { return static_cast<int>(joint_names_.size()); }
   bool has_chain() const { return has_chain_; }
   const KDL::Tree& tree() const { return tree_; }
