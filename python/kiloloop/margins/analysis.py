@@ -53,7 +53,7 @@ def compare(w_lin, L_lin, w_inj, L_inj, w_max: float) -> dict:
 
 
 def analyse(op, loop_name: str, *, seed: int = 0, inject: bool = True, linearize: bool = True,
-            memory: float = linearization.MEMORY) -> LoopAnalysis:
+            memory: float | None = None) -> LoopAnalysis:
     """The loop `loop_name` of the operating point `op` (margins/operating_point.py)."""
     rig = op.rig
     r, data = op.rollout(0)
@@ -64,7 +64,7 @@ def analyse(op, loop_name: str, *, seed: int = 0, inject: bool = True, linearize
     if linearize:
         reference, _ = op.fresh()
         meas = rig.family.measurement(rig.parts, rig.signals, rig.seed, reference)
-        H, _ = linearization.controller_impulse(op, meas, acts, memory)
+        H, _ = linearization.controller_impulse(op, meas, acts, memory or op.memory)
         P = linearization.plant(rig.plant.model, data, acts, loop.qfrc, loop.w)
         rows = linearization.measurement_rows(rig.plant.model, meas.addresses, meas.sources)
         result.w = grid(W_MIN, 0.98 * NYQUIST, GRID_POINTS)

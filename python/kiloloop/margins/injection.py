@@ -43,7 +43,7 @@ class MultiSine:
 def multisine(w_min: float, w_max: float, rms: float, seed: int, lines: int = LINES,
               period: int = PERIOD) -> MultiSine:
     res = 2 * np.pi / (period * CONTROL_DT)
-    bins = np.unique(np.round(np.logspace(np.log10(max(w_min / res, 1.0)),
+    bins = np.unique(np.round(np.logspace(np.log10(max(np.ceil(w_min / res), 1.0)),
                                           np.log10(w_max / res), lines)).astype(int))
     phases = np.random.default_rng(seed).uniform(0.0, 2 * np.pi, len(bins))
     return MultiSine(bins, rms * np.sqrt(2.0 / len(bins)), phases, period)

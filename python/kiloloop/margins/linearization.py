@@ -19,7 +19,7 @@ the control period T:
   closed      T(z) = r / d, and the loop at the break L = -T / (1 + T) (the injection's
                                                 identity s = r + d, r = -L s; margins/loops.py)
 
-The impulse responses are `memory` [s] long; beyond, each element is continued geometrically
+The impulse responses are `memory` [s] long (margins/operating_point.py); beyond, each element is continued geometrically
 from its last samples (a settled integrator's constant, a filter's decay), so slow controller
 states (integrators, estimators) keep their low-frequency effect.
 """
@@ -35,7 +35,6 @@ from ..sil.family import CONTROL_DT
 from ..sil.timing import whole_periods
 
 EPS = 1e-6        # perturbation of a measurement element (its unit) and of the plant's state
-MEMORY = 3.0      # [s] impulse response length of the controller chain
 
 
 class _Frozen:
@@ -56,7 +55,7 @@ class _Frozen:
             arr[a] = value
 
 
-def controller_impulse(op, measurement, acts, memory: float = MEMORY, eps: float = EPS):
+def controller_impulse(op, measurement, acts, memory: float, eps: float = EPS):
     """(N, nu, ny) the controller chain's response in ctrl[acts] to eps on each element of y
     for one tick, per unit (minus the unperturbed run); and y at the operating point."""
     n = whole_periods(memory, CONTROL_DT)
