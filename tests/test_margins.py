@@ -116,3 +116,20 @@ def test_an_unknown_loop_is_an_input_error(robot):
     op = operating_point(robot, {"controller": "pd_gravity"})
     with pytest.raises(InputError, match="joint:<i>"):
         analyse(op, "pitch", inject=False)
+
+
+def test_the_command_prints_the_margins_as_json(robot, capsys, tmp_path):
+    import json
+
+    from kiloloop.cli import main
+
+    png = tmp_path / "bode.png"
+    code = main(["margins", "arm-track", "--robot", str(robot.path), "--loop", "joint:0",
+                 "--set", "controller=pd_gravity", "--json", "--plot", str(png)])
+    d = json.loads(capsys.readouterr().out)
+    assert code == 0 and png.stat().st_size > 0
+    want = analytic_margins(0)["crossover_rad_s"]
+    assert d["crossover_rad_s"] == pytest.approx(want, rel=0.01)
+    for key in ("gain_margin_db", "phase_margin_deg", "delay_margin_s", "crossover_rad_s"):
+        assert key in d and key in d["injection"] and key in d["linearization"]
+    assert d["max_gain_difference_db"] < 1.0 and d["max_phase_difference_deg"] < 5.0

@@ -25,6 +25,7 @@ class LoopAnalysis:
     L_injected: np.ndarray = None
     margins_injected: Margins = None           # from the lines (coarser)
     agreement: dict = field(default_factory=dict)
+    impulse: np.ndarray = None                 # (N, nu, ny) the controller chain's
 
     def as_dict(self) -> dict:
         primary = self.margins or self.margins_injected
@@ -53,8 +54,10 @@ def compare(w_lin, L_lin, w_inj, L_inj, w_max: float) -> dict:
 
 
 def analyse(op, loop_name: str, *, seed: int = 0, inject: bool = True, linearize: bool = True,
-            memory: float | None = None) -> LoopAnalysis:
-    """The loop `loop_name` of the operating point `op` (margins/operating_point.py)."""
+            memory: float | None = None, impulse=None) -> LoopAnalysis:
+    """The loop `loop_name` of the operating point `op` (margins/operating_point.py).
+    impulse: the controller chain's impulse response of an earlier analysis of the same `op`
+    (LoopAnalysis.impulse; it is the same for every loop), else measured here."""
     rig = op.rig
     r, data = op.rollout(0)
     r.run()
@@ -64,7 +67,9 @@ def analyse(op, loop_name: str, *, seed: int = 0, inject: bool = True, linearize
     if linearize:
         reference, _ = op.fresh()
         meas = rig.family.measurement(rig.parts, rig.signals, rig.seed, reference)
-        H, _ = linearization.controller_impulse(op, meas, acts, memory or op.memory)
+        H = impulse if impulse is not None else linearization.controller_impulse(
+            op, meas, acts, memory or op.memory)[0]
+        result.impulse = H
         P = linearization.plant(rig.plant.model, data, acts, loop.qfrc, loop.w)
         rows = linearization.measurement_rows(rig.plant.model, meas.addresses, meas.sources)
         result.w = grid(W_MIN, 0.98 * NYQUIST, GRID_POINTS)

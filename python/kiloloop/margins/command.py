@@ -25,8 +25,8 @@ def summary(scenario: str, robot, d: dict) -> str:
                          f"{_fmt(m['crossover_rad_s'], 'rad/s')}")
     if d.get("max_gain_difference_db") is not None:
         lines.append(f"  agreement up to {d['agreement_up_to_rad_s']:.0f} rad/s (Nyquist/3): "
-                     f"{d['max_gain_difference_db']:.2f} dB, "
-                     f"{d['max_phase_difference_deg']:.2f} deg")
+                     f"{d['max_gain_difference_db']:.3f} dB, "
+                     f"{d['max_phase_difference_deg']:.3f} deg at most")
     return "\n".join(lines)
 
 
