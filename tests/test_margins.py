@@ -68,10 +68,14 @@ def analytic_margins(delay_ticks: int) -> dict:
     pm = math.degrees(np.angle(L(wc))) + 180.0
     grid = np.linspace(1.0, 3100.0, 20000)
     unwrapped = np.unwrap(np.angle(L(grid)))
-    k = int(np.argmax(unwrapped < -np.pi))          # the first crossing of -180 deg
-    near = unwrapped[k]
-    wp = brentq(lambda w: np.angle(L(w) * np.exp(-1j * near)) + near + np.pi, grid[k - 1], grid[k])
-    return {"gain_margin_db": -20 * math.log10(abs(L(wp))), "phase_margin_deg": pm,
+    gm = math.inf
+    if np.any(unwrapped < -np.pi):
+        k = int(np.argmax(unwrapped < -np.pi))      # the first crossing of -180 deg
+        near = unwrapped[k]
+        wp = brentq(lambda w: np.angle(L(w) * np.exp(-1j * near)) + near + np.pi,
+                    grid[k - 1], grid[k])
+        gm = -20 * math.log10(abs(L(wp)))
+    return {"gain_margin_db": gm, "phase_margin_deg": pm,
             "delay_margin_s": math.radians(pm) / wc, "crossover_rad_s": wc}
 
 
