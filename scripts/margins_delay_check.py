@@ -78,14 +78,16 @@ def main(argv=None) -> int:
         if not args.json:
             print(f"{name}: plant delay {1e3 * pred['motor_delay_s']:.1f} ms, design delay held")
             for loop, m in pred["loops"].items():
+                gm = m["gain_margin_db"]
                 print(f"  {loop:<7} phase margin {m['phase_margin_deg']:6.1f} deg at "
                       f"{m['crossover_rad_s']:6.1f} rad/s, delay margin "
                       f"{1e3 * m['delay_margin_s']:6.1f} ms, gain margin "
-                      f"{m['gain_margin_db'] if m['gain_margin_db'] is None else round(m['gain_margin_db'], 1)} dB")
+                      f"{'inf' if gm is None else round(gm, 1)} dB")
             print(f"  predicted to fail at   {1e3 * pred['failing_delay_s']:.1f} ms "
                   f"(plant delay + the {pred['worst']} loop's delay margin)")
+            unstable = sweep["first_unstable_delay_s"]
             print(f"  swept: first failing   {fail if fail is None else round(1e3 * fail, 1)} ms, "
-                  f"first {UNSTABLE[name]} {sweep['first_unstable_delay_s'] and round(1e3 * sweep['first_unstable_delay_s'], 1)} ms")
+                  f"first {UNSTABLE[name]} {unstable if unstable is None else round(1e3 * unstable, 1)} ms")
             print(f"  ratio failing / predicted {ratio if ratio is None else round(ratio, 3)} "
                   f"({'within' if ratio and abs(ratio - 1) <= TOLERANCE else 'outside'} +-20 %)")
     if args.json:

@@ -47,10 +47,10 @@ def compare(w_lin, L_lin, w_inj, L_inj, w_max: float) -> dict:
     mag = np.interp(np.log(w_inj[sel]), lw, 20 * np.log10(np.abs(L_lin)))
     ph = np.interp(np.log(w_inj[sel]), lw, np.unwrap(np.angle(L_lin)))
     dmag = 20 * np.log10(np.abs(L_inj[sel])) - mag
-    dph = np.angle(L_inj[sel] * np.exp(-1j * ph))
-    return {"agreement_up_to_rad_s": float(w_max),
-            "max_gain_difference_db": float(np.max(np.abs(dmag))) if sel.any() else None,
-            "max_phase_difference_deg": float(np.degrees(np.max(np.abs(dph)))) if sel.any() else None}
+    dph = np.degrees(np.angle(L_inj[sel] * np.exp(-1j * ph)))
+    worst = (lambda x: float(np.max(np.abs(x))) if sel.any() else None)   # noqa: E731
+    return {"agreement_up_to_rad_s": float(w_max), "max_gain_difference_db": worst(dmag),
+            "max_phase_difference_deg": worst(dph)}
 
 
 def analyse(op, loop_name: str, *, seed: int = 0, inject: bool = True, linearize: bool = True,

@@ -19,9 +19,9 @@ the control period T:
   closed      T(z) = r / d, and the loop at the break L = -T / (1 + T) (the injection's
                                                 identity s = r + d, r = -L s; margins/loops.py)
 
-The impulse responses are `memory` [s] long (margins/operating_point.py); beyond, each element is continued geometrically
-from its last samples (a settled integrator's constant, a filter's decay), so slow controller
-states (integrators, estimators) keep their low-frequency effect.
+The impulse responses are `memory` [s] long (margins/operating_point.py); beyond, each element
+is continued geometrically from its last samples (a settled integrator's constant, a filter's
+decay), so slow controller states (integrators, estimators) keep their low-frequency effect.
 """
 from __future__ import annotations
 
