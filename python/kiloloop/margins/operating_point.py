@@ -80,7 +80,8 @@ def _arm(robot, settings, seed):
     plant_only = {k: None if settings.get(k) in (None, "", "none") else float(settings[k])
                   for k in ("damping", "frictionloss", "armature")}
     delay = float(settings.get("measurement_delay", 0.0))
-    signals = Signals(measurement_delay=delay, motor_delay=float(settings.get("motor_delay", 0.0)))
+    signals = Signals(measurement_delay=delay, motor_delay=float(settings.get("motor_delay", 0.0)),
+                      motor_time_constant=float(settings.get("motor_time_constant", 0.0)))
     rig = Rig(robot, signals, seed=seed, physics_dt=settings.get("physics_dt", 0.001), **plant_only)
     q0 = (np.asarray(settings["q_start"], float) if len(settings.get("q_start", []))
           else work_pose(robot, rig.model, rig.plant))
