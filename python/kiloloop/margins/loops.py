@@ -144,5 +144,6 @@ def loop_of(op, data, name: str) -> Loop:
     if kind == "arm":
         return arm_loop(op, data, name)
     if name not in FAMILY_LOOPS[kind]:
-        raise InputError(f"--loop {name}: a {kind}'s loops are {', '.join(FAMILY_LOOPS[kind])}")
+        who = {"quadruped": "a quadruped", "aerial": "a multirotor"}[kind]
+        raise InputError(f"--loop {name}: {who}'s loops are {', '.join(FAMILY_LOOPS[kind])}")
     return (aerial_loop if kind == "aerial" else quadruped_loop)(op, data, name)
