@@ -131,7 +131,7 @@ def plant(m, d, acts, qfrc, w, eps: float = EPS):
     D_d (sensordata to qfrc), C_r, D_r (w . actuator_force[acts])."""
     if abs(m.opt.timestep - CONTROL_DT) > 1e-12:
         raise InputError("margins: the linearization takes physics_dt equal to the control "
-                         f"period ({CONTROL_DT} s)")
+                         f"period ({CONTROL_DT} s); --no-linearization measures by injection")
     nx, nu_all = 2 * m.nv + m.na, m.nu
     A, B = np.zeros((nx, nx)), np.zeros((nx, nu_all))
     C, D = np.zeros((m.nsensordata, nx)), np.zeros((m.nsensordata, nu_all))
