@@ -5,6 +5,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from ..errors import InputError
 from ..sil.family import CONTROL_DT
 from . import injection, linearization
 from .frequency_response import Margins, grid, margins
@@ -58,6 +59,8 @@ def analyse(op, loop_name: str, *, seed: int = 0, inject: bool = True, linearize
     """The loop `loop_name` of the operating point `op` (margins/operating_point.py).
     impulse: the controller chain's impulse response of an earlier analysis of the same `op`
     (LoopAnalysis.impulse; it is the same for every loop), else measured here."""
+    if not (inject or linearize):
+        raise InputError("--no-injection and --no-linearization leave nothing to do")
     rig = op.rig
     r, data = op.rollout(0)
     r.run()
@@ -76,6 +79,9 @@ def analyse(op, loop_name: str, *, seed: int = 0, inject: bool = True, linearize
         result.L = linearization.loop_response(P, rows, H, result.w)
         result.margins = margins(result.w, result.L)
     if inject:
+        if not np.isfinite(loop.authority):
+            raise InputError(f"--loop {loop_name}: its actuators have no limits to scale the "
+                             "injection by; --no-injection")
         rms = injection.FRACTION * loop.authority
         signal = injection.multisine(W_MIN, NYQUIST / 3, rms, seed)
         result.w_injected, result.L_injected, _, _ = injection.inject(op, loop, signal)

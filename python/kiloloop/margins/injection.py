@@ -5,8 +5,8 @@ s = r + d, so at each excited frequency L = -R / S = -R / (R + D) (DFT lines of 
 the first period dropped as the transient).
 
 The multi-sine: `lines` log-spaced DFT bins of a `period`-tick period between w_min and w_max
-[rad/s], equal amplitudes, random phases from the seed; its RMS is `fraction` of the loop's
-authority (the largest signal along v within the actuators' limits), capped at `max_rms`.
+[rad/s], equal amplitudes, random phases from the seed; its RMS is FRACTION of the loop's
+authority (the largest signal along v within the actuators' limits).
 """
 from __future__ import annotations
 

@@ -130,7 +130,7 @@ def plant(m, d, acts, qfrc, w, eps: float = EPS):
     """The plant's matrices at (d's state, d's ctrl): A, B (acts), B_d (qfrc), C, D (sensordata),
     D_d (sensordata to qfrc), C_r, D_r (w . actuator_force[acts])."""
     if abs(m.opt.timestep - CONTROL_DT) > 1e-12:
-        raise InputError("margins: the linearization takes physics_dt equal to the control "
+        raise InputError("the linearization takes physics_dt equal to the control "
                          f"period ({CONTROL_DT} s); --no-linearization measures by injection")
     nx, nu_all = 2 * m.nv + m.na, m.nu
     A, B = np.zeros((nx, nx)), np.zeros((nx, nu_all))
@@ -170,7 +170,7 @@ def measurement_rows(m, addresses, sources):
             j = int(np.searchsorted(m.jnt_qposadr, a, side="right") - 1)
             offset = a - int(m.jnt_qposadr[j])
             if m.jnt_type[j] == mujoco.mjtJoint.mjJNT_FREE and offset >= 3:
-                raise InputError("margins: a measured free-joint quaternion in qpos")
+                raise InputError("the measurement reads a free joint's quaternion from qpos: not linearized")
             rows.append(("state", int(m.jnt_dofadr[j]) + offset))
     return rows
 

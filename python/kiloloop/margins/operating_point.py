@@ -133,7 +133,7 @@ BUILDERS = {"arm": _arm, "quadruped": _quadruped, "aerial": _aerial}
 def operating_point(robot, settings: dict, seed: int = 0) -> OperatingPoint:
     """The operating point of a scenario's settings on `robot` (a loaded kl.Robot)."""
     if robot.kind not in BUILDERS:
-        raise InputError(f"margins: no loops for a robot of kind {robot.kind!r}")
+        raise InputError(f"no loops for a robot of kind {robot.kind!r}")
     op = BUILDERS[robot.kind](robot, dict(settings), int(seed))
     quiet(op.rig.signals)
     return op
