@@ -170,7 +170,8 @@ def measurement_rows(m, addresses, sources):
             j = int(np.searchsorted(m.jnt_qposadr, a, side="right") - 1)
             offset = a - int(m.jnt_qposadr[j])
             if m.jnt_type[j] == mujoco.mjtJoint.mjJNT_FREE and offset >= 3:
-                raise InputError("the measurement reads a free joint's quaternion from qpos: not linearized")
+                raise InputError("the measurement reads a free joint's quaternion from qpos: "
+                                 "not linearized")
             rows.append(("state", int(m.jnt_dofadr[j]) + offset))
     return rows
 
