@@ -85,9 +85,9 @@ def main(argv=None) -> int:
                       f"{'inf' if gm is None else round(gm, 1)} dB")
             print(f"  predicted to fail at   {1e3 * pred['failing_delay_s']:.1f} ms "
                   f"(plant delay + the {pred['worst']} loop's delay margin)")
-            unstable = sweep["first_unstable_delay_s"]
-            print(f"  swept: first failing   {fail if fail is None else round(1e3 * fail, 1)} ms, "
-                  f"first {UNSTABLE[name]} {unstable if unstable is None else round(1e3 * unstable, 1)} ms")
+            ms = (lambda s: s if s is None else round(1e3 * s, 1))   # noqa: E731
+            print(f"  swept: first failing   {ms(fail)} ms, first {UNSTABLE[name]} "
+                  f"{ms(sweep['first_unstable_delay_s'])} ms")
             print(f"  ratio failing / predicted {ratio if ratio is None else round(ratio, 3)} "
                   f"({'within' if ratio and abs(ratio - 1) <= TOLERANCE else 'outside'} +-20 %)")
     if args.json:
