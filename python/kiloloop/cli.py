@@ -213,6 +213,12 @@ def cmd_b2b(args) -> int:
     return 0 if result.identical and result.model_identical else 1
 
 
+def cmd_margins(args) -> int:
+    from .margins.command import run
+
+    return run(args)
+
+
 def cmd_pil(args) -> int:
     from .firmware.build import BuildError
     from .firmware.pil import run_pil
@@ -427,6 +433,20 @@ def _build_parser() -> argparse.ArgumentParser:
     pil.add_argument("--json", action="store_true",
                      help="print the result as JSON (and nothing else)")
     pil.set_defaults(func=cmd_pil)
+    margins = sub.add_parser("margins", help="gain, phase and delay margins of one loop at a "
+                                             "scenario's operating point (docs/margins.md)")
+    margins.add_argument("scenario", metavar="SCENARIO|FILE.toml")
+    margins.add_argument("--loop", required=True, metavar="LOOP",
+                         help="joint:<i> (arm); roll, pitch, height (quadruped); roll, pitch, "
+                              "yaw, z (multirotor)")
+    margins.add_argument("--robot", default=None, metavar="NAME|FILE")
+    margins.add_argument("--set", action="append", default=[], metavar="KEY=VALUE")
+    margins.add_argument("--seed", type=_seed, default=0, help="the multi-sine's phases")
+    margins.add_argument("--no-injection", action="store_true", help="linearization only")
+    margins.add_argument("--no-linearization", action="store_true", help="injection only")
+    margins.add_argument("--json", action="store_true", help="print one JSON object")
+    margins.add_argument("--plot", metavar="PNG", help="write the Bode plot")
+    margins.set_defaults(func=cmd_margins)
     return parser
 
 

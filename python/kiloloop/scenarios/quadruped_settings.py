@@ -9,6 +9,7 @@ import kiloloop as kl
 from ..sil.legged_sensors import LeggedSensorSettings
 from ..sil.rig import Rig
 from ..sil.signals import Signals
+from .design_delay import design_delay
 
 _SENSORS = LeggedSensorSettings()
 COMMON_DEFAULTS = {
@@ -50,14 +51,6 @@ def signals_from_settings(settings: dict) -> Signals:
                    accel_sigma=settings["accel_sigma"],
                    encoder_resolution=float(np.deg2rad(settings["encoder_resolution_deg"])),
                    motor_delay=settings["motor_delay"], legged_sensors=sensors)
-
-
-def design_delay(settings: dict) -> float:
-    """[s] the actuation delay the controller is designed for (0 on the ideal plant)."""
-    design = settings.get("design_delay")
-    if design not in (None, "", "none"):
-        return float(design)
-    return float(settings["motor_delay"]) if settings["nonideal"] else 0.0
 
 
 def rig_from_settings(settings: dict, seed: int, slope_deg: float = 0.0, config=None,
