@@ -98,14 +98,59 @@ _OPS = {"<": lambda a, b: a < b, "<=": lambda a, b: a <= b,
         ">": lambda a, b: a > b, ">=": lambda a, b: a >= b}
 
 
-def evaluate(criteria: dict[str, tuple[str, float]], metrics: dict[str, float]) -> dict[str, dict]:
-    """Checks each metric against its criterion; a NaN or missing metric fails."""
+class NotComputed(float):
+    """A metric a scenario could not compute, and why: a NaN that carries its reason
+    (`metrics["stop_time"] = NotComputed("the e-stop never stopped the arm")`). It is a float, so
+    every table and log that formats metrics still takes it; `evaluate` fails its criterion with
+    the reason, and the CLI and the zoo print "not computed: <reason>", never a number."""
+
+    reason: str
+
+    def __new__(cls, reason: str):
+        value = super().__new__(cls, float("nan"))
+        value.reason = str(reason)
+        return value
+
+    def __repr__(self) -> str:
+        return f"NotComputed({self.reason!r})"
+
+    def __reduce__(self):   # pickled (process pools) with its reason
+        return (NotComputed, (self.reason,))
+
+
+def evaluate(criteria: dict[str, tuple[str, float]], metrics: dict[str, float],
+             reasons: dict[str, str] | None = None) -> dict[str, dict]:
+    """Checks each metric against its criterion. A metric that is missing, NaN (or NotComputed)
+    fails, and its row carries `reason`: "not computed: ..." with the scenario's reason (a
+    NotComputed value, or `reasons[name]`) or what is known (missing; NaN with no reason given)."""
     out = {}
     for name, (op, threshold) in criteria.items():
         value = metrics.get(name, float("nan"))
-        out[name] = {"value": value, "op": op, "threshold": threshold,
-                     "passed": bool(_OPS[op](value, threshold))}
+        row = {"value": value, "op": op, "threshold": threshold,
+               "passed": bool(_OPS[op](value, threshold))}
+        why = not_computed_reason(name, metrics, reasons)
+        if why:
+            row["passed"], row["reason"] = False, why
+        out[name] = row
     return out
+
+
+def not_computed_reason(name: str, metrics: dict, reasons: dict | None = None) -> str:
+    """"not computed: <why>" for a metric that is missing or not a finite-or-infinite number
+    (NaN), "" for one that is a number."""
+    if name not in metrics:
+        why = (reasons or {}).get(name) or "the scenario did not report it"
+    else:
+        value = metrics[name]
+        try:
+            nan = math.isnan(float(value))
+        except (TypeError, ValueError):
+            nan = True
+        if not nan:
+            return ""
+        why = getattr(value, "reason", "") or (reasons or {}).get(name) or \
+            "NaN (the scenario gave no reason)"
+    return f"not computed: {why}"
 
 
 def names() -> list[str]:
