@@ -26,7 +26,12 @@ Optional declarations a scenario module may make, checked here before anything r
   key has no effect on it and draws a warning (UnreadKeyWarning). Default: every table.
 
 Errors a user's input causes are kiloloop.errors.InputError (a ValueError): the CLI prints them as
-one line and exits 2.
+one line and exits 2. prepare() runs the family's start checks (feasibility.py): a robot whose
+data rule a scenario out (an effort limit that cannot hold its weight standing, rotors that cannot
+lift it) is refused with errors.ScenarioRefused, an InputError, before anything runs.
+
+A metric a scenario cannot compute is NaN with a reason (NotComputed, or evaluate's `reasons`):
+its criterion fails and says "not computed: <why>".
 """
 from __future__ import annotations
 
@@ -250,6 +255,9 @@ def prepare(module, robot=None, overrides: list[str] | dict | None = None, *,
         warnings.warn(f"--set {key}: {module.NAME} does not read it (no effect on this run)",
                       UnreadKeyWarning, stacklevel=2)
     nq = check_robot_sizes(robot)
+    from .feasibility import check as check_feasible
+
+    check_feasible(module.NAME, robot)   # ScenarioRefused: what the robot's data rule out
     settings = dict(module.DEFAULTS)
     if hasattr(module, "derive"):
         settings.update(module.derive(robot))
