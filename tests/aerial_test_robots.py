@@ -12,31 +12,12 @@ import math
 import sys
 from pathlib import Path
 
-
-def example_robot_data_share() -> Path:
-    """<site-packages>/cmeel.prefix/share (holds example-robot-data/robots/...)."""
-    from importlib.metadata import files
-
-    for f in files("example-robot-data") or ():
-        parts = f.parts
-        if "example-robot-data" in parts and "share" in parts:
-            path = Path(f.locate())
-            while path.name != "share":
-                path = path.parent
-            return path
-    raise RuntimeError("example-robot-data is not installed")
+from kiloloop.bench import zoo_robots
 
 
-# PX4 / Gazebo iris (sitl_gazebo models/iris/iris.sdf): motorConstant 5.84e-06 N/(rad/s)^2,
-# momentConstant 0.06 m, maxRotVelocity 1100 rad/s -> thrust_max 5.84e-6 * 1100^2 = 7.07 N;
-# timeConstantUp 0.0125 s, timeConstantDown 0.025 s (the slower one is typed: one first-order
-# lag here). Rotor poses and turning directions as in example-robot-data's iris_simple.urdf
-# (rotor_0, rotor_1 counter-clockwise props; rotor_2, rotor_3 clockwise).
-IRIS_ROTORS = [((0.13, -0.22, 0.023), 1), ((-0.13, 0.20, 0.023), 1),
-               ((0.13, 0.22, 0.023), -1), ((-0.13, -0.20, 0.023), -1)]
-IRIS_THRUST_MAX = 5.84e-6 * 1100.0 ** 2   # [N]
-IRIS_MOMENT_CONSTANT = 0.06               # [m]
-IRIS_TIME_CONSTANT = 0.025                # [s]
+# example-robot-data's iris: the zoo's robot file (python/kiloloop/bench/zoo_robots.py: PX4
+# rotor data, rotor positions from the URDF's rotor links), the one table of real robots.
+IRIS_THRUST_MAX = zoo_robots.IRIS_THRUST_MAX   # [N]
 
 
 def _rotor_tables(rotors, thrust_max, c, tau) -> str:
@@ -51,16 +32,9 @@ def _rotor_tables(rotors, thrust_max, c, tau) -> str:
 
 
 def write_iris(directory) -> Path:
-    d = Path(directory)
-    d.mkdir(parents=True, exist_ok=True)
-    share = example_robot_data_share()
-    urdf = share / "example-robot-data/robots/iris_description/robots/iris_simple.urdf"
-    path = d / "iris.toml"
-    path.write_text(
-        'name = "iris"\nkind = "aerial"\n'
-        f'urdf = "{urdf}"\npackage_dirs = ["{share}"]\n\n'
-        '[vehicle]\nbase = "iris__base_link"\n\n'
-        + _rotor_tables(IRIS_ROTORS, IRIS_THRUST_MAX, IRIS_MOMENT_CONSTANT, IRIS_TIME_CONSTANT))
+    path = zoo_robots.robot_file("iris", directory)
+    if path is None:
+        raise RuntimeError("example-robot-data is not installed")
     return path
 
 

@@ -100,6 +100,8 @@ def run_one(job: tuple) -> dict:
         record["outcome"], record["text"] = "input", _one_line(e)
     except Exception as e:  # noqa: BLE001 - a bug in kiloloop is a result of the zoo too
         record["outcome"], record["text"] = "crashed", f"{type(e).__name__}: {_one_line(e)}"
+    # The robot file lives in a temporary directory: named by its file name alone.
+    record["text"] = record["text"].replace(str(path), Path(path).name)
     record["wall_s"] = round(time.perf_counter() - t0, 3)
     return record
 
@@ -143,8 +145,7 @@ def cell_text(records: list) -> str:
     if passed == n:
         return f"{n}/{n}"
     parts = []
-    for outcome, label in (("refused", "refused"), ("input", "refused (input)"),
-                           ("crashed", "crashed")):
+    for outcome, label in (("refused", "refused"), ("input", "refused"), ("crashed", "crashed")):
         hit = [r for r in records if r["outcome"] == outcome]
         if hit:
             seeds = "" if len(hit) == n else f" (seeds {','.join(str(r['seed']) for r in hit)})"
