@@ -45,7 +45,7 @@ SAN_ENV := ASAN_OPTIONS=detect_leaks=1:abort_on_error=1:strict_string_checks=1 \
            UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
            LSAN_OPTIONS=suppressions=$(abspath tests/lsan.supp)
 
-.PHONY: demo test wheel wheel-only cpp-build cpp-test bench pil build system-deps clean robot-matrix matrix matrix-seeds quadruped-robots fuzz sanitize \
+.PHONY: demo test wheel wheel-only cpp-build cpp-test bench pil build system-deps clean robot-matrix matrix matrix-seeds quadruped-robots zoo fuzz sanitize \
         b2b firmware-loop
 
 demo: build
@@ -94,6 +94,18 @@ matrix-seeds: build
 # tilt-stop at 10 ms, realistic sensors): bench/quadruped_robots.{md,json}, about 15 s.
 quadruped-robots: build
 	$(BIN)/python -m kiloloop.bench.quadruped_robots bench
+
+# The zoo (docs/zoo.md): every arm, quadruped and multirotor of example-robot-data from a minimal
+# robot file (python/kiloloop/bench/zoo_robots.py) x every scenario of its family, seeds 0-4; the
+# quadrupeds at 10 and 35 ms: 1290 runs, bench/zoo.{md,json}. Measured on one process of a
+# shared 2-core machine: arms 250 runs in 203 s, multirotors 140 in about 90 s, quadrupeds about
+# 4 s a run (900 runs: about an hour; ZOO_JOBS=2 halves it where two cores are free). Filters:
+# ZOO_ARGS="--robots go1,arm --scenarios quadruped-trot --seeds 0 --delays 35" (a rerun merges
+# into bench/zoo.json). tests/test_zoo.py runs four of its cells in `make test`.
+ZOO_JOBS ?= $(JOBS)
+ZOO_ARGS ?=
+zoo: build
+	$(BIN)/python -m kiloloop.bench.zoo bench --jobs $(ZOO_JOBS) $(ZOO_ARGS)
 
 # The firmware path for our three robots: SIL log -> export -> firmware build (-fno-exceptions
 # -fno-rtti, build/firmware/) -> replay, bit for bit (docs/firmware.md).
