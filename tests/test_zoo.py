@@ -80,6 +80,8 @@ def test_not_computed_metric_fails_with_its_reason(capsys):
     assert table["drift"]["reason"] == "not computed: NaN (the scenario gave no reason)"
     assert table["peak"]["reason"] == "not computed: no contact" and not table["peak"]["passed"]
     assert table["ok"]["passed"] and "reason" not in table["ok"]
+    fell = evaluate({"drift": ("<", 1.0)}, {"drift": float("nan"), "fell": 1.0})
+    assert fell["drift"]["reason"] == "not computed: NaN, the run ended early (fell)"
 
     result = scenarios.ScenarioResult("x", {"stop_time": table["stop_time"]["value"]}, table)
     _print_summary(result, {})

@@ -153,9 +153,22 @@ def not_computed_reason(name: str, metrics: dict, reasons: dict | None = None) -
             nan = True
         if not nan:
             return ""
-        why = getattr(value, "reason", "") or (reasons or {}).get(name) or \
-            "NaN (the scenario gave no reason)"
+        why = getattr(value, "reason", "") or (reasons or {}).get(name) or _nan_context(metrics)
     return f"not computed: {why}"
+
+
+# Flags the families' metrics set when a run ends before its script does (quadrupeds: a fall;
+# multirotors: divergence): the metric windows after it hold no samples.
+_ENDED_EARLY = ("fell", "diverged")
+
+
+def _nan_context(metrics: dict) -> str:
+    """What is known about a NaN the scenario gave no reason for."""
+    for flag in _ENDED_EARLY:
+        value = metrics.get(flag)
+        if isinstance(value, (int, float)) and value == value and value > 0.5:
+            return f"NaN, the run ended early ({flag})"
+    return "NaN (the scenario gave no reason)"
 
 
 def names() -> list[str]:
