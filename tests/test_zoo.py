@@ -114,7 +114,8 @@ def test_table_writer_on_a_fake_result(tmp_path):
     assert zoo.cell_text(records[5:8]) == "1/3: max_ee_error_m 0.02 (< 0.005) [seed 2]"
     assert zoo.cell_text(records[8:9]) == \
         "0/1: stop_time not computed: the arm never stopped [seed 0]"
-    assert zoo.cell_text(records[9:]) == "refused: ur3: arm-press refused at start: a \\| in the reason"
+    assert zoo.cell_text(records[9:]) == \
+        "refused: ur3: arm-press refused at start: a \\| in the reason"
 
     zoo.write(records, tmp_path)
     text = (tmp_path / "zoo.md").read_text()

@@ -23,7 +23,6 @@ import argparse
 import datetime
 import json
 import math
-import os
 import sys
 import tempfile
 import time
@@ -133,7 +132,8 @@ def _worst(records: list, criterion: str) -> dict:
         c = r["criteria"][criterion]
         if c["value"] is None:
             return math.inf
-        return c["value"] - c["threshold"] if c["op"] in ("<", "<=") else c["threshold"] - c["value"]
+        below = c["op"] in ("<", "<=")   # the limit is an upper bound
+        return c["value"] - c["threshold"] if below else c["threshold"] - c["value"]
     return max(records, key=beyond)
 
 
