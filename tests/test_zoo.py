@@ -3,7 +3,8 @@ robot from the zoo's own minimal robot file (python/kiloloop/bench/zoo_robots.py
 is not ours (Panda, the e-stop), a quadruped that is not ours (A1 standing), a multirotor of
 example-robot-data without an arm (Hector, hover) and one with an arm (Borinot, wind). Then what
 the harness does with what is not a pass: a refusal at start (a quadruped whose knee cannot hold
-its weight: the zoo's cell, and `kiloloop run`'s one line and exit 2), a metric not computed
+its weight: the zoo's cell, and `kiloloop run`'s one line and exit 2; rotors that cannot lift
+the vehicle), a metric not computed
 (its reason, never a number), and the table writer on a tiny fake result."""
 from __future__ import annotations
 
@@ -66,6 +67,18 @@ def test_refused_at_start_is_a_cell_and_one_cli_line(tmp_path, capsys):
     assert main(["run", "quadruped-stand", "--robot", str(path)]) == 2
     err = capsys.readouterr().err.strip()
     assert len(err.splitlines()) == 1 and "standing needs" in err and "Traceback" not in err
+
+
+def test_rotors_that_cannot_lift_the_vehicle_are_refused(tmp_path):
+    """Iris (1.5 kg) with 3 N rotors: 12 N of thrust for 14.8 N of weight."""
+    from kiloloop.errors import ScenarioRefused
+
+    path = zoo_robots.robot_file("iris", tmp_path)
+    path.write_text(path.read_text().replace(f"thrust_max = {zoo_robots.IRIS_THRUST_MAX!r}",
+                                             "thrust_max = 3.0"))
+    with pytest.raises(ScenarioRefused, match="cannot lift the vehicle .largest collective "
+                                              "thrust 12.0+ N <= m g = 15.05"):
+        scenarios.prepare(scenarios.get("aerial-hover"), str(path))
 
 
 def test_not_computed_metric_fails_with_its_reason(capsys):

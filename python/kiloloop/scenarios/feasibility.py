@@ -10,13 +10,14 @@ certainly impossible: each estimate leaves out what would make the need larger.
   limit. The legs' own weight is left out (it adds to the need). Every quadruped scenario starts
   standing.
 - multirotors: hovering. The rotors' largest collective thrust (the allocation's, along the
-  body's vertical with zero moments) against the weight: below it nothing flies.
+  body's vertical with zero moments) against the weight: below it nothing flies (the aerial
+  controller's own configure check, raised here as the scenario's refusal).
 """
 from __future__ import annotations
 
 import numpy as np
 
-from ..errors import ScenarioRefused
+from ..errors import InputError, ScenarioRefused
 
 GRAVITY = 9.81        # [m/s^2]
 STANCE_FEET = 4       # feet sharing the weight when standing
@@ -73,15 +74,19 @@ def quadruped_stand_shortfall(robot) -> str:
 
 
 def aerial_hover_shortfall(robot) -> str:
-    """"" when the rotors can lift the vehicle; otherwise the reason with both figures."""
+    """"" when the rotors can lift the vehicle; otherwise the reason with both figures. The rule
+    lives once, in the aerial controller's configure (C++ validate: the allocation's largest
+    collective thrust against m g); this turns its refusal into the scenario's."""
     import kiloloop as kl
 
     from ..robot import aerial
 
-    controller = kl.AerialController(aerial.model(robot), aerial.config(robot))
-    lift = float(controller.allocation.max_collective)   # [N]
-    weight = float(controller.hover_thrust)               # [N]
-    if lift >= weight:
-        return ""
-    return (f"its rotors' largest collective thrust {lift:.4g} N is below its weight "
-            f"{weight:.4g} N ({weight / GRAVITY:.3g} kg): it cannot hover")
+    try:
+        kl.AerialController(aerial.model(robot), aerial.config(robot))
+    except ValueError as e:
+        # Anything else the configure refuses is the robot file's doing: an InputError.
+        reason = str(e).strip().splitlines()[0] if str(e).strip() else type(e).__name__
+        if "cannot lift" in reason:
+            return f"{reason}: it cannot hover"
+        raise InputError(f"{robot.name}: {reason}") from e
+    return ""
