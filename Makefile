@@ -97,9 +97,10 @@ quadruped-robots: build
 
 # The zoo (docs/zoo.md): every arm, quadruped and multirotor of example-robot-data from a minimal
 # robot file (python/kiloloop/bench/zoo_robots.py) x every scenario of its family, seeds 0-4; the
-# quadrupeds at 10 and 35 ms: 1290 runs, bench/zoo.{md,json}. Measured on one process of a
-# shared 2-core machine: arms 250 runs in 203 s, multirotors 140 in about 90 s, quadrupeds about
-# 4 s a run (900 runs: about an hour; ZOO_JOBS=2 halves it where two cores are free). Filters:
+# quadrupeds at 10 and 35 ms: 1290 runs, bench/zoo.{md,json}. Measured with --jobs 1 on the
+# shared 2-core machine (load 8-10): 2334 s in all; arms 250 runs, 307 s (mean 1.2 s a run),
+# multirotors 140, 77 s (0.5 s), quadrupeds 900, 1937 s (2.2 s; rough ground at 35 ms up to 85 s).
+# ZOO_JOBS=2 (the default, JOBS) about halves it where two cores are free. Filters:
 # ZOO_ARGS="--robots go1,arm --scenarios quadruped-trot --seeds 0 --delays 35" (a rerun merges
 # into bench/zoo.json). tests/test_zoo.py runs four of its cells in `make test`.
 ZOO_JOBS ?= $(JOBS)
