@@ -48,7 +48,7 @@ SAN_ENV := ASAN_OPTIONS=detect_leaks=1:abort_on_error=1:strict_string_checks=1 \
            UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
            LSAN_OPTIONS=suppressions=$(abspath tests/lsan.supp)
 
-.PHONY: demo test wheel wheel-only cpp-build cpp-test bench pil build system-deps clean robot-matrix matrix matrix-seeds quadruped-robots fuzz sanitize \
+.PHONY: demo test wheel wheel-only cpp-build cpp-test bench pil build system-deps clean robot-matrix matrix matrix-seeds quadruped-robots zoo fuzz sanitize \
         b2b firmware-loop
 
 demo: build
@@ -97,6 +97,19 @@ matrix-seeds: build
 # tilt-stop at 10 ms, realistic sensors): bench/quadruped_robots.{md,json}, about 15 s.
 quadruped-robots: build
 	$(BIN)/python -m kiloloop.bench.quadruped_robots bench
+
+# The zoo (docs/zoo.md): every arm, quadruped and multirotor of example-robot-data from a minimal
+# robot file (python/kiloloop/bench/zoo_robots.py) x every scenario of its family, seeds 0-4; the
+# quadrupeds at 10 and 35 ms: 1290 runs, bench/zoo.{md,json}. Measured with --jobs 1 on the
+# shared 2-core machine (load 8-10): 2334 s in all; arms 250 runs, 307 s (mean 1.2 s a run),
+# multirotors 140, 77 s (0.5 s), quadrupeds 900, 1937 s (2.2 s; rough ground at 35 ms up to 85 s).
+# ZOO_JOBS=2 (the default, JOBS) about halves it where two cores are free. Filters:
+# ZOO_ARGS="--robots go1,arm --scenarios quadruped-trot --seeds 0 --delays 35" (a rerun merges
+# into bench/zoo.json). tests/test_zoo.py runs four of its cells in `make test`.
+ZOO_JOBS ?= $(JOBS)
+ZOO_ARGS ?=
+zoo: build
+	$(BIN)/python -m kiloloop.bench.zoo bench --jobs $(ZOO_JOBS) $(ZOO_ARGS)
 
 # The firmware path for our three robots: SIL log -> export -> firmware build (-fno-exceptions
 # -fno-rtti, build/firmware/) -> replay, bit for bit (docs/firmware.md).

@@ -9,34 +9,20 @@ from __future__ import annotations
 
 import argparse
 import sys
-import sysconfig
 import tempfile
 import time
 from pathlib import Path
 
-ARMS = {  # name: (URDF under robots/, chain root, chain tip)
-    "ur3": ("ur_description/urdf/ur3_robot.urdf", "base_link", "tool0"),
-    "ur5": ("ur_description/urdf/ur5_robot.urdf", "base_link", "tool0"),
-    "ur10": ("ur_description/urdf/ur10_robot.urdf", "base_link", "tool0"),
-    "panda": ("panda_description/urdf/panda.urdf", "panda_link0", "panda_link8"),
-    "xarm7": ("xarm_description/urdf/xarm7.urdf", "link_base", "link7"),
-    "z1": ("z1_description/urdf/z1.urdf", "link00", "link06"),
-    "so100": ("so_arm_description/urdf/so100.urdf", "base", "gripper"),
-}
+from kiloloop.bench import zoo_robots
+
+# The seven arms this matrix has always run (the zoo's table has them, and more: `make zoo`).
+ARMS = ("ur3", "ur5", "ur10", "panda", "xarm7", "z1", "so100")
 ARM_SCENARIOS = ("arm-track", "arm-line", "arm-rrt", "arm-press", "arm-estop")
 
 
-def share() -> Path:
-    return Path(sysconfig.get_paths()["purelib"]) / "cmeel.prefix" / "share"
-
-
 def arm_file(directory: Path, name: str) -> Path:
-    urdf, root, tip = ARMS[name]
-    path = directory / f"{name}.toml"
-    path.write_text(f'name = "{name}"\nkind = "arm"\n'
-                    f'urdf = "{share() / "example-robot-data" / "robots" / urdf}"\n'
-                    f'package_dirs = ["{share()}"]\n[chain]\nroot = "{root}"\ntip = "{tip}"\n')
-    return path
+    """The zoo's minimal robot file of arm `name` (bench/zoo_robots.py) in directory."""
+    return zoo_robots.robot_file(name, directory)
 
 
 def main(argv=None) -> int:

@@ -1,10 +1,11 @@
 """Minimal aerial robot files written at test time: example-robot-data's multirotors (iris, hector,
-borinot with its 2-joint arm, hextilt with its 5-joint arm; their URDFs referenced where the
-package installed it, not copied; a URDF carries no rotor data, so each rotor table below is typed
-from its vendor's simulation model, the source in a comment) and multirotors whose URDFs are
-written here (a hexarotor and an octorotor with a 2-joint arm and a body CoM away from the base
-origin, a hexarotor with tilted rotors). Only geometry and rotor data are typed in: everything else
-is derived by kiloloop.
+borinot with its 2-joint arm, hextilt with its arm cut after the third joint), as the zoo writes
+them (python/kiloloop/bench/zoo_robots.py: their URDFs referenced where the package installed
+them; a URDF carries no rotor data, so each rotor table there is typed from its vendor's
+simulation model, the source in a comment), and multirotors whose URDFs are written here (a
+hexarotor and an octorotor with a 2-joint arm and a body CoM away from the base origin, a hexarotor
+with tilted rotors). Only geometry and rotor data are typed in: everything else is derived by
+kiloloop.
 
     python tests/aerial_test_robots.py DIR   writes DIR/iris.toml, DIR/hexa_arm.toml, ...
 """
@@ -14,31 +15,12 @@ import math
 import sys
 from pathlib import Path
 
-
-def example_robot_data_share() -> Path:
-    """<site-packages>/cmeel.prefix/share (holds example-robot-data/robots/...)."""
-    from importlib.metadata import files
-
-    for f in files("example-robot-data") or ():
-        parts = f.parts
-        if "example-robot-data" in parts and "share" in parts:
-            path = Path(f.locate())
-            while path.name != "share":
-                path = path.parent
-            return path
-    raise RuntimeError("example-robot-data is not installed")
+from kiloloop.bench import zoo_robots
 
 
-# PX4 / Gazebo iris (sitl_gazebo models/iris/iris.sdf): motorConstant 5.84e-06 N/(rad/s)^2,
-# momentConstant 0.06 m, maxRotVelocity 1100 rad/s -> thrust_max 5.84e-6 * 1100^2 = 7.07 N;
-# timeConstantUp 0.0125 s, timeConstantDown 0.025 s (the slower one is typed: one first-order
-# lag here). Rotor poses and turning directions as in example-robot-data's iris_simple.urdf
-# (rotor_0, rotor_1 counter-clockwise props; rotor_2, rotor_3 clockwise).
-IRIS_ROTORS = [((0.13, -0.22, 0.023), 1), ((-0.13, 0.20, 0.023), 1),
-               ((0.13, 0.22, 0.023), -1), ((-0.13, -0.20, 0.023), -1)]
-IRIS_THRUST_MAX = 5.84e-6 * 1100.0 ** 2   # [N]
-IRIS_MOMENT_CONSTANT = 0.06               # [m]
-IRIS_TIME_CONSTANT = 0.025                # [s]
+# example-robot-data's iris: the zoo's robot file (python/kiloloop/bench/zoo_robots.py: PX4
+# rotor data, rotor positions from the URDF's rotor links), the one table of real robots.
+IRIS_THRUST_MAX = zoo_robots.IRIS_THRUST_MAX   # [N]
 
 
 def _rotor_tables(rotors, thrust_max, c, tau) -> str:
@@ -53,107 +35,33 @@ def _rotor_tables(rotors, thrust_max, c, tau) -> str:
 
 
 def write_iris(directory) -> Path:
-    d = Path(directory)
-    d.mkdir(parents=True, exist_ok=True)
-    share = example_robot_data_share()
-    urdf = share / "example-robot-data/robots/iris_description/robots/iris_simple.urdf"
-    path = d / "iris.toml"
-    path.write_text(
-        'name = "iris"\nkind = "aerial"\n'
-        f'urdf = "{urdf}"\npackage_dirs = ["{share}"]\n\n'
-        '[vehicle]\nbase = "iris__base_link"\n\n'
-        + _rotor_tables(IRIS_ROTORS, IRIS_THRUST_MAX, IRIS_MOMENT_CONSTANT, IRIS_TIME_CONSTANT))
+    path = zoo_robots.robot_file("iris", directory)
+    if path is None:
+        raise RuntimeError("example-robot-data is not installed")
     return path
 
 
-def _quat_z(x, y, z, w) -> tuple:
-    """The z axis of the rotation (x, y, z, w): a rotor's thrust axis from its frame."""
-    n = math.sqrt(x * x + y * y + z * z + w * w)
-    x, y, z, w = x / n, y / n, z / n, w / n
-    return (round(2 * (x * z + w * y), 9), round(2 * (y * z - w * x), 9),
-            round(1 - 2 * (x * x + y * y), 9))
-
-
-def _write_erd(directory, name, urdf_rel, base, rotors, thrust_max, c, tau, ee=None) -> Path:
-    """A robot file on an example-robot-data URDF (referenced, not copied)."""
-    d = Path(directory)
-    d.mkdir(parents=True, exist_ok=True)
-    share = example_robot_data_share()
-    path = d / f"{name}.toml"
-    path.write_text(
-        f'name = "{name}"\nkind = "aerial"\n'
-        f'urdf = "{share / "example-robot-data/robots" / urdf_rel}"\n'
-        f'package_dirs = ["{share}"]\n\n'
-        f'[vehicle]\nbase = "{base}"\n' + (f'ee = "{ee}"\n' if ee else "") + "\n"
-        + _rotor_tables(rotors, thrust_max, c, tau))
+def _zoo_file(name: str, directory) -> Path:
+    path = zoo_robots.robot_file(name, directory)
+    if path is None:
+        raise RuntimeError("example-robot-data is not installed")
     return path
 
 
-# Hector quadrotor (hector_description/quadrotor_base.urdf: the body alone, 1.477 kg). Rotor data
-# from eagle-mpc's hector model (PepMS/eagle-mpc config/multirotor/hector.yaml): "+" layout at
-# 0.1525 m, max_thrust 5 N, cm / cf = 1e-6 / 6.6e-5 m; its `z` is the spin's sign in eagle-mpc's
-# yaw row (+cm/cf), the opposite of ours (a rotor turning counter-clockwise drags the body
-# clockwise), so spin = -z. No time constant there: the Gazebo motor plugin's (PX4) 0.025 s.
-HECTOR_ROTORS = [((0.1525, 0.0, 0.0), 1), ((0.0, 0.1525, 0.0), -1),
-                 ((-0.1525, 0.0, 0.0), 1), ((0.0, -0.1525, 0.0), -1)]
-HECTOR_THRUST_MAX = 5.0                   # [N]
-HECTOR_MOMENT_CONSTANT = 1e-6 / 6.6e-5    # [m]
-HECTOR_TIME_CONSTANT = 0.025              # [s]
-
-# Borinot with flying_arm_2 (borinot_description: 2.647 kg body, CoM 2.4 cm off the base origin
-# sideways and 2 cm up, a 2-joint arm of 0.26 kg below). Its URDF has no rotor links; the rotors
-# from its source (PepMS/hidro_robots robots/borinot/xacro/definition.urdf.xacro: six rotors at
-# 0.185 m, 5 cm above the base origin, cw/ccw alternating; common/xacro/multicopter.xacro's
-# Gazebo motor model: motorConstant 3.847e-6 N/(rad/s)^2, maxRotVelocity 2236 rad/s ->
-# thrust_max 3.847e-6 * 2236^2 = 19.2 N, momentConstant 0.016894 m, timeConstantUp/Down
-# 0.005 s). ccw (Gazebo's turningDirection) is our spin +1.
-BORINOT_ROTORS = [((0.0, -0.185, 0.05), -1), ((0.0, 0.185, 0.05), 1),
-                  ((0.1602146997, 0.0925, 0.05), -1), ((-0.1602146997, -0.0925, 0.05), 1),
-                  ((0.1602146997, -0.0925, 0.05), 1), ((-0.1602146997, 0.0925, 0.05), -1)]
-BORINOT_THRUST_MAX = 3.847e-6 * 2236.0 ** 2   # [N]
-BORINOT_MOMENT_CONSTANT = 0.016894178436859097  # [m]
-BORINOT_TIME_CONSTANT = 0.005                 # [s]
-
-# Hextilt with flying_arm_5 (hextilt_description: a hexarotor with tilted rotors, 1.02 kg body,
-# a 5-joint arm of 0.67 kg). Rotors from eagle-mpc (PepMS/eagle-mpc yaml/hextilt/platform/
-# hextilt.yaml): translations and orientations (x, y, z, w; the thrust axis is the frame's z),
-# max_thrust 10.34 N (1100 rad/s), cm = 1.6e-2 cf (0.016 m); spin = -spin_direction (eagle-mpc's
-# yaw row is +cm/cf * spin_direction, see hector). No time constant there: the Gazebo motor
-# plugin's (PX4) 0.025 s.
-HEXTILT_ROTORS = [(p, -s, _quat_z(*q)) for p, q, s in [
-    ((0.3907966465836527, 0.0299377136375720, -0.0427554860579147),
-     (0.2995615231515963, 0.0831219092134935, 0.0262082373043233, 0.9500877698156101), -1),
-    ((0.2213251438331876, 0.3234709668364263, -0.0427554860579147),
-     (-0.3009888436523893, -0.0777950765858490, 0.4523468856138499, 0.8359042631373822), 1),
-    ((-0.2213251438331875, 0.3234709668364264, -0.0427554860579147),
-     (0.0777950765858490, 0.3009888436523893, 0.8359042631373822, 0.4523468856138501), -1),
-    ((-0.3907966465836527, 0.0299377136375721, -0.0427554860579147),
-     (-0.0831219092134935, -0.2995615231515963, 0.9500877698156101, 0.0262082373043234), 1),
-    ((-0.1694715027504653, -0.3534086804739983, -0.0427554860579147),
-     (-0.2217664465657472, 0.2178669344388960, 0.8096960258330590, -0.4977408842017598), -1),
-    ((0.1694715027504649, -0.3534086804739985, -0.0427554860579147),
-     (-0.2178669344388958, 0.2217664465657473, -0.4977408842017603, 0.8096960258330587), 1)]]
-HEXTILT_THRUST_MAX = 10.3437818   # [N]
-HEXTILT_MOMENT_CONSTANT = 0.016   # [m]
-HEXTILT_TIME_CONSTANT = 0.025     # [s]
-
-
+# example-robot-data's other multirotors, as the zoo writes them (python/kiloloop/bench/
+# zoo_robots.py: rotor data typed from their sources, each named there): hector (thrust/weight
+# 1.38, no arm), borinot (a hexarotor with a 2-joint arm, its CoM off the base origin), hextilt
+# (tilted rotors, its 5-joint arm cut after the third joint).
 def write_hector(directory) -> Path:
-    return _write_erd(directory, "hector", "hector_description/robots/quadrotor_base.urdf",
-                      "base_link", HECTOR_ROTORS, HECTOR_THRUST_MAX, HECTOR_MOMENT_CONSTANT,
-                      HECTOR_TIME_CONSTANT)
+    return _zoo_file("hector", directory)
 
 
 def write_borinot(directory) -> Path:
-    return _write_erd(directory, "borinot", "borinot_description/urdf/borinot_flying_arm_2.urdf",
-                      "borinot__base_link", BORINOT_ROTORS, BORINOT_THRUST_MAX,
-                      BORINOT_MOMENT_CONSTANT, BORINOT_TIME_CONSTANT, ee="flying_arm_2__ee")
+    return _zoo_file("borinot", directory)
 
 
 def write_hextilt(directory) -> Path:
-    return _write_erd(directory, "hextilt", "hextilt_description/urdf/hextilt_flying_arm_5.urdf",
-                      "hextilt__base_link", HEXTILT_ROTORS, HEXTILT_THRUST_MAX,
-                      HEXTILT_MOMENT_CONSTANT, HEXTILT_TIME_CONSTANT, ee="flying_arm_5__gripper")
+    return _zoo_file("hextilt", directory)
 
 
 def multirotor_urdf(n_rotors: int, arm_joints: int, com=(0.0, 0.0, 0.0), radius=0.3,

@@ -19,6 +19,8 @@ from .errors import InputError, UnreadKeyWarning, UrdfRepairWarning
 
 
 def _format_value(v) -> str:
+    if isinstance(v, float) and v != v:   # NaN: a metric not computed, with why when known
+        return f"not computed: {v.reason}" if getattr(v, "reason", "") else "not computed (NaN)"
     return f"{v:.4g}" if isinstance(v, float) else str(v)
 
 
@@ -33,7 +35,10 @@ def _print_summary(result, settings) -> None:
     print("  criteria:")
     for name, c in result.criteria.items():
         mark = "ok  " if c["passed"] else "FAIL"
-        print(f"    {mark} {name} = {_format_value(c['value'])} {c['op']} {c['threshold']}")
+        if c.get("reason"):   # a metric the scenario could not compute: why, never a number
+            print(f"    {mark} {name}: {c['reason']} (needs {c['op']} {c['threshold']})")
+        else:
+            print(f"    {mark} {name} = {_format_value(c['value'])} {c['op']} {c['threshold']}")
 
 
 def cmd_list(_args) -> int:

@@ -12,49 +12,18 @@ import tempfile
 import time
 from pathlib import Path
 
+from . import zoo_robots
 
-# name: (URDF under example-robot-data/robots, base link, feet FL FR RL RR), the URDFs' own names.
-ROBOTS = {
-    "a1": ("a1_description/urdf/a1.urdf", "trunk", ("FL_foot", "FR_foot", "RL_foot", "RR_foot")),
-    "go1": ("go1_description/urdf/go1.urdf", "trunk", ("FL_foot", "FR_foot", "RL_foot", "RR_foot")),
-    "go2": ("go2_description/urdf/go2.urdf", "base", ("FL_foot", "FR_foot", "RL_foot", "RR_foot")),
-    "b1": ("b1_description/urdf/b1.urdf", "trunk", ("FL_foot", "FR_foot", "RL_foot", "RR_foot")),
-    "laikago": ("laikago_description/urdf/laikago.urdf", "trunk",
-                ("FL_foot", "FR_foot", "RL_foot", "RR_foot")),
-    "solo12": ("solo_description/robots/solo12.urdf", "base_link",
-               ("FL_FOOT", "FR_FOOT", "HL_FOOT", "HR_FOOT")),
-    "anymal_b": ("anymal_b_simple_description/robots/anymal.urdf", "base",
-                 ("LF_FOOT", "RF_FOOT", "LH_FOOT", "RH_FOOT")),
-    "anymal_c": ("anymal_c_simple_description/urdf/anymal.urdf", "base",
-                 ("LF_FOOT", "RF_FOOT", "LH_FOOT", "RH_FOOT")),
-    "hyq": ("hyq_description/robots/hyq_no_sensors.urdf", "trunk",
-            ("lf_foot", "rf_foot", "lh_foot", "rh_foot")),
-}
-def erd_share() -> Path | None:
-    """The directory holding example-robot-data's robots (its wheel's cmeel prefix), or None."""
-    for base in map(Path, sys.path):
-        p = base / "cmeel.prefix" / "share"
-        if (p / "example-robot-data" / "robots").is_dir():
-            return p
-    return None
-
-
+# Every quadruped of the zoo's table (bench/zoo_robots.py: URDF, base link, feet FL FR RL RR).
+ROBOTS = zoo_robots.names("quadruped")
 SCENARIOS = ("quadruped-stand", "quadruped-trot", "quadruped-push", "quadruped-slope",
              "quadruped-tilt-stop")
 
 
 def robot_file(name: str, directory: Path) -> Path | None:
-    """The minimal robot file of ROBOTS[name] in directory, or None without example-robot-data."""
-    share = erd_share()
-    if share is None:
-        return None
-    urdf, base, feet = ROBOTS[name]
-    path = directory / f"{name}.toml"
-    path.write_text(f'name = "{name}"\nkind = "quadruped"\n'
-                    f'urdf = "{share / "example-robot-data" / "robots" / urdf}"\n'
-                    f'package_dirs = ["{share}"]\n[legs]\nbase = "{base}"\n'
-                    f'feet = [{", ".join(chr(34) + f + chr(34) for f in feet)}]\n')
-    return path
+    """The zoo's minimal robot file of quadruped `name` in directory, or None without
+    example-robot-data."""
+    return zoo_robots.robot_file(name, directory)
 
 
 def main(argv=None) -> int:

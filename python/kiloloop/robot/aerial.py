@@ -33,11 +33,14 @@ from .errors import RobotFileError
 if TYPE_CHECKING:  # annotations only: kiloloop._core is imported where it is used
     from .._core import AerialConfig, RobotModel
 
+# [s] a rotor's time constant where its table gives none (10-inch props): the plant's motor lag
+# and the gains' design both take it, so that they agree (a plant without lag under gains and a
+# reaction lead designed for 30 ms diverged: hextilt, whose source gives none).
+DEFAULT_TIME_CONSTANT = 0.03
 # Rotor table keys: None = required.
 ROTOR_KEYS = {"position": None, "axis": [0.0, 0.0, 1.0], "spin": None, "thrust_max": None,
-              "torque_coefficient": None, "time_constant": 0.0, "thrust_min": 0.0}
-# [s] rotor time constant assumed for the gains when no rotor gives one (10-inch props).
-DEFAULT_TIME_CONSTANT = 0.03
+              "torque_coefficient": None, "time_constant": DEFAULT_TIME_CONSTANT,
+              "thrust_min": 0.0}
 MAX_ATTITUDE_BANDWIDTH = 40.0  # [rad/s]: beyond, the 1 kHz loop's delay and IMU noise dominate
 
 # [controller] keys: bandwidths [rad/s] that the gains come from, and kl.AerialConfig fields.

@@ -26,7 +26,12 @@ Optional declarations a scenario module may make, checked here before anything r
   key has no effect on it and draws a warning (UnreadKeyWarning). Default: every table.
 
 Errors a user's input causes are kiloloop.errors.InputError (a ValueError): the CLI prints them as
-one line and exits 2.
+one line and exits 2. prepare() runs the family's start checks (feasibility.py): a robot whose
+data rule a scenario out (an effort limit that cannot hold its weight standing, rotors that cannot
+lift it) is refused with errors.ScenarioRefused, an InputError, before anything runs.
+
+A metric a scenario cannot compute is NaN with a reason (NotComputed, or evaluate's `reasons`):
+its criterion fails and says "not computed: <why>".
 """
 from __future__ import annotations
 
@@ -98,14 +103,72 @@ _OPS = {"<": lambda a, b: a < b, "<=": lambda a, b: a <= b,
         ">": lambda a, b: a > b, ">=": lambda a, b: a >= b}
 
 
-def evaluate(criteria: dict[str, tuple[str, float]], metrics: dict[str, float]) -> dict[str, dict]:
-    """Checks each metric against its criterion; a NaN or missing metric fails."""
+class NotComputed(float):
+    """A metric a scenario could not compute, and why: a NaN that carries its reason
+    (`metrics["stop_time"] = NotComputed("the e-stop never stopped the arm")`). It is a float, so
+    every table and log that formats metrics still takes it; `evaluate` fails its criterion with
+    the reason, and the CLI and the zoo print "not computed: <reason>", never a number."""
+
+    reason: str
+
+    def __new__(cls, reason: str):
+        value = super().__new__(cls, float("nan"))
+        value.reason = str(reason)
+        return value
+
+    def __repr__(self) -> str:
+        return f"NotComputed({self.reason!r})"
+
+    def __reduce__(self):   # pickled (process pools) with its reason
+        return (NotComputed, (self.reason,))
+
+
+def evaluate(criteria: dict[str, tuple[str, float]], metrics: dict[str, float],
+             reasons: dict[str, str] | None = None) -> dict[str, dict]:
+    """Checks each metric against its criterion. A metric that is missing, NaN (or NotComputed)
+    fails, and its row carries `reason`: "not computed: ..." with the scenario's reason (a
+    NotComputed value, or `reasons[name]`) or what is known (missing; NaN with no reason given)."""
     out = {}
     for name, (op, threshold) in criteria.items():
         value = metrics.get(name, float("nan"))
-        out[name] = {"value": value, "op": op, "threshold": threshold,
-                     "passed": bool(_OPS[op](value, threshold))}
+        row = {"value": value, "op": op, "threshold": threshold,
+               "passed": bool(_OPS[op](value, threshold))}
+        why = not_computed_reason(name, metrics, reasons)
+        if why:
+            row["passed"], row["reason"] = False, why
+        out[name] = row
     return out
+
+
+def not_computed_reason(name: str, metrics: dict, reasons: dict | None = None) -> str:
+    """"not computed: <why>" for a metric that is missing or not a finite-or-infinite number
+    (NaN), "" for one that is a number."""
+    if name not in metrics:
+        why = (reasons or {}).get(name) or "the scenario did not report it"
+    else:
+        value = metrics[name]
+        try:
+            nan = math.isnan(float(value))
+        except (TypeError, ValueError):
+            nan = True
+        if not nan:
+            return ""
+        why = getattr(value, "reason", "") or (reasons or {}).get(name) or _nan_context(metrics)
+    return f"not computed: {why}"
+
+
+# Flags the families' metrics set when a run ends before its script does (quadrupeds: a fall;
+# multirotors: divergence): the metric windows after it hold no samples.
+_ENDED_EARLY = ("fell", "diverged")
+
+
+def _nan_context(metrics: dict) -> str:
+    """What is known about a NaN the scenario gave no reason for."""
+    for flag in _ENDED_EARLY:
+        value = metrics.get(flag)
+        if isinstance(value, (int, float)) and value == value and value > 0.5:
+            return f"NaN, the run ended early ({flag})"
+    return "NaN (the scenario gave no reason)"
 
 
 def names() -> list[str]:
@@ -205,6 +268,9 @@ def prepare(module, robot=None, overrides: list[str] | dict | None = None, *,
         warnings.warn(f"--set {key}: {module.NAME} does not read it (no effect on this run)",
                       UnreadKeyWarning, stacklevel=2)
     nq = check_robot_sizes(robot)
+    from .feasibility import check as check_feasible
+
+    check_feasible(module.NAME, robot)   # ScenarioRefused: what the robot's data rule out
     settings = dict(module.DEFAULTS)
     if hasattr(module, "derive"):
         settings.update(module.derive(robot))
