@@ -23,7 +23,8 @@ def summary(robot, model) -> list[str]:
         f"feet {', '.join(plant.feet)} (order checked against the hips)",
         f"  mass {d.mass:.3f} kg; CoM standing {fmt(ctrl.com)} m (trunk frame)",
         f"  composite inertia about the CoM [kg m^2]: diag {fmt(np.diag(inertia))}",
-        f"  stand height {d.body_height:.4f} m; foot radius {d.foot_radius:.4f} m about "
+        f"  stand height {d.body_height:.4f} m (feet {d.stand_extension:.2f} of the leg below the "
+        f"hips); foot radius {d.foot_radius:.4f} m about "
         f"({fmt(d.foot_offset)}) m in the foot frame; knees {knees}",
         f"  stand pose [rad] {fmt(ctrl.stand_pose)}",
         f"  plant start height {plant.base_pos0[2]:.4f} m",
