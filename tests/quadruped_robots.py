@@ -1,6 +1,7 @@
 """Quadruped robot files for the tests: minimal ones (only name, kind, urdf, package_dirs, [legs])
-for example-robot-data's Go1, and a generated light (~2.5 kg) quadruped whose knees sit off the
-hip pitch axis (offsets along it) and bend forward."""
+for example-robot-data's Go1, a generated light (~2.5 kg) quadruped whose knees sit off the
+hip pitch axis (offsets along it) and bend forward, and a generated 27 kg one whose knees bend
+forward with limits [0, pi]."""
 from __future__ import annotations
 
 from pathlib import Path
@@ -82,6 +83,34 @@ def light_quadruped_urdf(path: Path, knee_offset: float = 0.015, forward_knees=T
                    f'<child link="{leg}_foot"/><origin xyz="0 0 {-L}"/></joint>\n')
         out.append(_link(f"{leg}_foot", 0.01, (0, 0, 0), (2e-7, 2e-7, 2e-7),
                          '    <collision><geometry><sphere radius="0.012"/></geometry></collision>\n'))
+    out.append("</robot>\n")
+    Path(path).write_text("".join(out))
+    return Path(path)
+
+
+def forward_knee_quadruped_urdf(path: Path, foot_ahead: float = 0.01, hip_lower: float = -2.5) -> Path:
+    """A 27 kg quadruped whose knees bend forward, knee limits [0, pi] as a flipped Unitree-style
+    URDF writes them: 13 kg trunk, 0.25 m thigh and shank; each foot sits `foot_ahead` [m] in
+    front of its shank's line, so the knee limits also allow a sliver of backward bend (0.04
+    rad: too little to stand on); the hip pitch's lower limit is `hip_lower` [rad]."""
+    L = 0.25
+    out = ['<?xml version="1.0"?>\n<robot name="forward_knee_dog">\n']
+    out.append(_link("trunk", 13.0, (0, 0, 0), _box(13.0, 0.60, 0.30, 0.15),
+                     '    <collision><geometry><box size="0.60 0.30 0.15"/></geometry></collision>\n'))
+    for leg, sx, sy in (("FL", 1, 1), ("FR", 1, -1), ("RL", -1, 1), ("RR", -1, -1)):
+        out.append(_joint(f"{leg}_abd", "trunk", f"{leg}_hip", (sx * 0.25, sy * 0.08, 0), "1 0 0",
+                          -0.8, 0.8, effort=40.0))
+        out.append(_link(f"{leg}_hip", 1.0, (0, sy * 0.04, 0), _box(1.0, 0.08, 0.06, 0.08)))
+        out.append(_joint(f"{leg}_pitch", f"{leg}_hip", f"{leg}_thigh", (0, sy * 0.08, 0), "0 1 0",
+                          hip_lower, 2.5, effort=60.0))
+        out.append(_link(f"{leg}_thigh", 1.9, (0, 0, -L / 2), _box(1.9, 0.04, 0.04, L)))
+        out.append(_joint(f"{leg}_knee", f"{leg}_thigh", f"{leg}_shank", (0, 0, -L), "0 1 0",
+                          0.0, 3.14159, effort=60.0))
+        out.append(_link(f"{leg}_shank", 0.5, (0, 0, -L / 2), _box(0.5, 0.02, 0.02, L)))
+        out.append(f'  <joint name="{leg}_foot_fixed" type="fixed"><parent link="{leg}_shank"/>'
+                   f'<child link="{leg}_foot"/><origin xyz="{foot_ahead} 0 {-L}"/></joint>\n')
+        out.append(_link(f"{leg}_foot", 0.05, (0, 0, 0), (5e-6, 5e-6, 5e-6),
+                         '    <collision><geometry><sphere radius="0.02"/></geometry></collision>\n'))
     out.append("</robot>\n")
     Path(path).write_text("".join(out))
     return Path(path)

@@ -1,7 +1,7 @@
 """Any 12-DoF quadruped from a minimal robot file (name, kind, urdf, package_dirs, [legs]):
 derivation checked against Pinocchio, a clear error for swapped feet, MuJoCo accepts Go1's dummy
 root link, and a generated light quadruped (knee offsets along the hip axis, forward knees)
-stands and trots in SIL."""
+stands and trots in SIL, and stand poses derived within the joint limits on both knee bends."""
 import numpy as np
 import pytest
 
@@ -10,8 +10,8 @@ from kiloloop import scenarios
 from kiloloop.robot.quadruped import controller_config, plant_overlay
 from kiloloop.sil.floating_plant import FloatingBasePlant
 
-from quadruped_robots import (go1_robot_file, light_quadruped_urdf, minimal_robot_file,
-                              pinocchio_com_and_inertia)
+from quadruped_robots import (forward_knee_quadruped_urdf, go1_robot_file, light_quadruped_urdf,
+                              minimal_robot_file, pinocchio_com_and_inertia)
 
 
 def controller_for(robot):
@@ -65,6 +65,74 @@ def test_light_robot_derivation(light):
     for i in range(4):
         foot = c.foot_position(i, stand[i])
         assert foot[2] == pytest.approx(-(d.body_height - d.foot_radius), abs=1e-9)
+
+
+def forward_knee_robot(directory, **kwargs):
+    urdf = forward_knee_quadruped_urdf(directory / "forward_knee_dog.urdf", **kwargs)
+    return kl.Robot.load(minimal_robot_file(directory, "forward_knee_dog", urdf))
+
+
+def assert_stands_within_limits(c, robot):
+    """Every leg's stand and crouch pose inside the URDF's joint limits, each foot
+    body_height - foot_radius below the trunk origin standing."""
+    model = robot.model()
+    index = {n: k for k, n in enumerate(model.joint_names)}
+    lower = np.asarray(model.lower)[[index[n] for n in c.joint_names]]
+    upper = np.asarray(model.upper)[[index[n] for n in c.joint_names]]
+    for pose in (np.asarray(c.stand_pose), np.asarray(c.crouch_pose)):
+        assert np.all(pose >= lower - 1e-12) and np.all(pose <= upper + 1e-12), pose
+    stand = np.asarray(c.stand_pose).reshape(4, 3)
+    for i in range(4):
+        assert c.foot_position(i, stand[i])[2] == pytest.approx(
+            -(c.config.body_height - c.config.foot_radius), abs=1e-9)
+
+
+def test_forward_knees_with_a_sliver_of_backward_bend_stand_forward(tmp_path):
+    """Knee limits [0, pi] with each foot 1 cm ahead of its shank's line also allow 0.04 rad of
+    backward bend. The knee bend chosen stands: forward. Before, an unreachable IK (a
+    degradation status, not a failure) passed as a solution: the knees were resolved backward
+    and the derived stand pose was all zeros (straight legs), and the 27 kg robot fell in every
+    scenario."""
+    robot = forward_knee_robot(tmp_path)
+    c = controller_for(robot)
+    assert 26 < c.config.mass < 28
+    assert all(k == kl.KneeDirection.FORWARD for k in c.config.knees)
+    assert c.config.stand_extension == pytest.approx(0.58)  # the limits allow the default
+    stand = np.asarray(c.stand_pose).reshape(4, 3)
+    assert np.all(stand[:, 2] > 0.5) and np.all(stand[:, 1] < -0.3)
+    assert_stands_within_limits(c, robot)
+
+
+def test_stand_height_moves_where_the_hip_limit_forbids_the_default(tmp_path):
+    """A hip pitch that turns only 0.9 rad forward cannot put a forward-knee foot under the hip at
+    0.58 of the leg (the thigh would lean 0.95 rad forward) nor lift it from there: the derived
+    stand extension moves up to where every leg stands and lifts its foot within its limits."""
+    robot = forward_knee_robot(tmp_path, hip_lower=-0.9)
+    c = controller_for(robot)
+    assert 0.6 < c.config.stand_extension <= 0.9
+    assert_stands_within_limits(c, robot)
+    # The swing apex (swing_height above the stand) is reachable too.
+    stand = np.asarray(c.stand_pose).reshape(4, 3)
+    assert np.all(stand[:, 1] >= -0.9)
+
+
+def test_no_standing_height_within_the_limits_is_refused_by_name(tmp_path):
+    """A hip pitch that turns only 0.5 rad forward: a forward-knee foot fits under the hip only
+    near a straight leg, with no room to lift it. Refused at configure, naming the leg and its
+    limits, instead of a stand pose outside them."""
+    robot = forward_knee_robot(tmp_path, hip_lower=-0.5)
+    with pytest.raises(Exception, match=r"no standing height within the joint limits: leg 'FL_foot'"
+                                        r".*hip pitch limits \[-0\.5, 2\.5\] rad"):
+        controller_for(robot)
+
+
+# Stands, and on the 5 deg slope. Its 20 s trot still falls (seed 0 at 17.7 s, roll/pitch 7.6 deg
+# RMS), where the same robot mirrored to backward knees passes: docs/robots.md.
+@pytest.mark.parametrize("name,duration", [("quadruped-stand", 2.0), ("quadruped-slope", None)])
+def test_forward_knee_robot_stands(tmp_path, name, duration):
+    r = scenarios.run_named(name, forward_knee_robot(tmp_path), seed=0, duration=duration)
+    print(name, {k: round(v, 4) for k, v in r.metrics.items() if isinstance(v, float)})
+    assert_criteria(r)
 
 
 def test_swapped_feet_are_refused_with_the_reason(tmp_path, go1):

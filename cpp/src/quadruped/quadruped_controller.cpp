@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 
 #include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
@@ -59,6 +60,49 @@ std::array<bool, QuadrupedController::kLegs> legs_in(int set) {
   std::array<bool, QuadrupedController::kLegs> legs{};
   for (int i = 0; i < QuadrupedController::kLegs; ++i) legs[i] = (set >> i) & 1;
   return legs;
+}
+
+// Whether the leg's inverse kinematics put the foot at the point within its joint limits:
+// kOk only (kUnreachable is a degradation, not a failure: ok() and failed() both let it through,
+// with q left untouched).
+bool reached(const LegKinematics& leg, const Eigen::Vector3d& foot, Eigen::Vector3d* q) {
+  return leg.inverse(foot, *q) == Status::kOk;
+}
+
+// Whether a leg holds its foot at a trunk-frame point with a knee bend `knee` allows (kAuto:
+// either bend its joint limits allow).
+bool reaches(const LegGeometry& g, KneeDirection knee, const Eigen::Vector3d& foot) {
+  const KneeBends bends = allowed_bends(g);
+  for (const KneeDirection k : {KneeDirection::kBackward, KneeDirection::kForward}) {
+    const bool allowed = knee == KneeDirection::kAuto
+                             ? (k == KneeDirection::kBackward ? bends.backward : bends.forward)
+                             : knee == k;
+    if (!allowed) continue;
+    LegGeometry bent = g;
+    bent.knee = k;
+    Eigen::Vector3d q = Eigen::Vector3d::Zero();
+    if (reached(LegKinematics(bent), foot, &q)) return true;
+  }
+  return false;
+}
+
+// [-] the range of stand extensions (hip -> foot / leg length) the derivation may move to where
+// the joint limits forbid QuadrupedConfig::stand_extension: a straighter leg has no room left to
+// lift its foot, a more bent one stands too low for its swing.
+constexpr double kMinStandExtension = 0.40, kMaxStandExtension = 0.90;
+constexpr double kStandExtensionStep = 0.01;
+
+// x to 3 significant digits (configure-time messages).
+std::string short_text(double x) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.3g", x);
+  return buf;
+}
+
+std::string limits_text(const LegGeometry& g) {
+  auto range = [](double lo, double hi) { return "[" + short_text(lo) + ", " + short_text(hi) + "]"; };
+  return "hip pitch limits " + range(g.lower[1], g.upper[1]) + " rad and knee limits " +
+         range(g.lower[2], g.upper[2]) + " rad";
 }
 
 }  // namespace
@@ -128,8 +172,8 @@ LegGeometry QuadrupedController::knee_nearer_zero(const LegGeometry& g, const Qu
   forward.knee = KneeDirection::kForward;
   backward.knee = KneeDirection::kBackward;
   Eigen::Vector3d q_forward = Eigen::Vector3d::Zero(), q_backward = Eigen::Vector3d::Zero();
-  const bool f_ok = ok(LegKinematics(forward).inverse(stand, q_forward));
-  const bool b_ok = ok(LegKinematics(backward).inverse(stand, q_backward));
+  const bool f_ok = reached(LegKinematics(forward), stand, &q_forward);
+  const bool b_ok = reached(LegKinematics(backward), stand, &q_backward);
   if (f_ok && (!b_ok || std::abs(q_forward[2]) < std::abs(q_backward[2]) - 1e-9)) return forward;
   return b_ok ? backward : g;
 }
@@ -149,7 +193,7 @@ double QuadrupedController::coupled_swing_frequency(const QuadrupedController& c
     Eigen::Vector3d q_apex = q_stand;
     const Eigen::Vector3d apex =
         c.legs_[i].foot_position(q_stand) + Eigen::Vector3d(0, 0, cfg.swing_height);
-    const int poses = ok(c.legs_[i].inverse(apex, q_apex)) ? 2 : 1;
+    const int poses = reached(c.legs_[i], apex, &q_apex) ? 2 : 1;
     for (int k = 0; k < poses; ++k) {
       const Eigen::Matrix3d H = c.leg_inertia_[i].at(k == 0 ? q_stand : q_apex);
       const Eigen::LLT<Eigen::Matrix3d> llt(H);
@@ -218,13 +262,55 @@ Status QuadrupedController::configure(const QuadrupedConfig& config, RobotModelP
     }
   }
   // Standing height: each foot stand_extension of its leg's length straight below its hip pitch
-  // axis (mean over the legs), unless given.
+  // axis (mean over the legs), unless given. Where a leg's joint limits forbid it (the foot
+  // under the hip there, or swing_height above that, out of reach with every knee bend the leg
+  // may take), the nearest extension in [0.40, 0.90] where every leg reaches both (resolved into
+  // stand_extension). Measured: a 25 kg quadruped (Laikago) with its knees flipped to bend
+  // forward, limits [0, pi], cannot put its feet under its hips at 0.58 with its hip pitch's
+  // lower limit (-0.52 rad); unchecked, its stand pose came out all zeros (legs straight) and it
+  // fell in every scenario.
   auto hip_z = [](const LegGeometry& g) { return g.abd_origin.z() + g.h_abd; };
   if (cfg.body_height == 0) {
-    double h = 0;
-    for (const auto& leg : c.legs_)
-      h += 0.25 * (cfg.stand_extension * leg.geometry().length() - hip_z(leg.geometry()));
-    cfg.body_height = h + cfg.foot_radius;
+    double mean_length = 0;
+    for (const auto& leg : c.legs_) mean_length += 0.25 * leg.geometry().length();
+    const double lift = cfg.swing_height > 0 ? cfg.swing_height : 0.16 * mean_length;  // as below
+    auto height_at = [&](double extension) {
+      double h = 0;
+      for (const auto& leg : c.legs_)
+        h += 0.25 * (extension * leg.geometry().length() - hip_z(leg.geometry()));
+      return h + cfg.foot_radius;
+    };
+    // The first leg that cannot stand at height h (or lift its foot from there), -1: none.
+    auto first_short_leg = [&](double h) {
+      for (int i = 0; i < kLegs; ++i) {
+        const LegGeometry& g = c.legs_[i].geometry();
+        const Eigen::Vector3d foot(g.abd_origin.x(), g.abd_origin.y() + g.l_abd, -(h - cfg.foot_radius));
+        if (!reaches(g, config.knees[i], foot) ||
+            !reaches(g, config.knees[i], foot + Eigen::Vector3d(0, 0, lift)))
+          return i;
+      }
+      return -1;
+    };
+    double extension = cfg.stand_extension;
+    int short_leg = first_short_leg(height_at(extension));
+    const int wanted_short_leg = short_leg;
+    for (int k = 1; short_leg >= 0 && k <= 100; ++k)
+      for (const double e : {cfg.stand_extension - k * kStandExtensionStep,
+                             cfg.stand_extension + k * kStandExtensionStep}) {
+        if (e < kMinStandExtension - 1e-9 || e > kMaxStandExtension + 1e-9 || short_leg < 0) continue;
+        if (first_short_leg(height_at(e)) < 0) extension = e, short_leg = -1;
+      }
+    if (short_leg >= 0) {
+      const LegGeometry& g = c.legs_[wanted_short_leg].geometry();
+      return fail("no standing height within the joint limits: leg '" + config.feet[wanted_short_leg] +
+                      "' (" + short_text(g.length()) + " m) cannot hold its foot under its hip at " +
+                      short_text(kMinStandExtension) + " to " + short_text(kMaxStandExtension) +
+                      " of its length and lift it " + short_text(lift) + " m from there with its " +
+                      limits_text(g) + "; set body_height, knees or the limits ([limits.<joint>])",
+                  Status::kInvalidConfig);
+    }
+    cfg.stand_extension = extension;
+    cfg.body_height = height_at(extension);
   }
   for (int i = 0; i < kLegs; ++i)
     if (config.knees[i] == KneeDirection::kAuto) {
@@ -237,7 +323,7 @@ Status QuadrupedController::configure(const QuadrupedConfig& config, RobotModelP
     const Eigen::Vector3d under_hip(g.abd_origin.x(), g.abd_origin.y() + g.l_abd, 0.0);
     Eigen::Vector3d q = Eigen::Vector3d::Zero();
     const Eigen::Vector3d stand = under_hip - Eigen::Vector3d(0, 0, cfg.body_height - cfg.foot_radius);
-    if (failed(c.legs_[i].inverse(stand, q)))
+    if (!reached(c.legs_[i], stand, &q))
       return fail("body_height " + std::to_string(cfg.body_height) + " m: leg '" + config.feet[i] +
                       "' cannot stand there (out of reach or joint limits)",
                   Status::kInvalidConfig);
@@ -246,7 +332,7 @@ Status QuadrupedController::configure(const QuadrupedConfig& config, RobotModelP
     for (double e = cfg.crouch_extension; e < cfg.stand_extension; e += 0.02) {
       Eigen::Vector3d qc = q;
       const Eigen::Vector3d p = under_hip + Eigen::Vector3d(0, 0, hip_z(g) - e * g.length());
-      if (ok(c.legs_[i].inverse(p, qc))) {
+      if (reached(c.legs_[i], p, &qc)) {
         c.crouch_q_.segment<3>(3 * i) = qc;
         break;
       }

@@ -18,12 +18,15 @@ def summary(robot, model) -> list[str]:
     inertia = np.asarray(ctrl.inertia)
     fmt = lambda v: ", ".join(f"{x:.4g}" for x in np.asarray(v).ravel())  # noqa: E731
     knees = ", ".join(str(k).split(".")[-1].lower() for k in d.knees)
+    # Derived (not set by the file): at what extension, moved off the default where the limits forbid it.
+    extension = ("" if robot.section("controller").get("body_height") else
+                 f" (feet {d.stand_extension:.2f} of the leg below the hips)")
     return [
         f"  plant: {plant.model.nbody - 1} bodies, {plant.nq} actuated joints, "
         f"feet {', '.join(plant.feet)} (order checked against the hips)",
         f"  mass {d.mass:.3f} kg; CoM standing {fmt(ctrl.com)} m (trunk frame)",
         f"  composite inertia about the CoM [kg m^2]: diag {fmt(np.diag(inertia))}",
-        f"  stand height {d.body_height:.4f} m; foot radius {d.foot_radius:.4f} m about "
+        f"  stand height {d.body_height:.4f} m{extension}; foot radius {d.foot_radius:.4f} m about "
         f"({fmt(d.foot_offset)}) m in the foot frame; knees {knees}",
         f"  stand pose [rad] {fmt(ctrl.stand_pose)}",
         f"  plant start height {plant.base_pos0[2]:.4f} m",

@@ -60,7 +60,12 @@ struct QuadrupedConfig {
   // [m] trunk origin above the ground, along world z. 0: derived so that each foot stands
   // stand_extension of the leg's length straight below its hip pitch axis.
   double body_height = 0.0;
-  double stand_extension = 0.58;      // [-] hip -> foot distance standing / (l_thigh + l_shank)
+  // [-] hip -> foot distance standing / (l_thigh + l_shank). Where a leg's joint limits forbid
+  // it (its foot there, or the swing apex above it, out of reach with any knee bend it may
+  // take), the derived body_height moves to the nearest extension in [0.40, 0.90] where every
+  // leg reaches both, and config() reports that one; none: configure fails naming the leg and
+  // its limits.
+  double stand_extension = 0.58;
   double crouch_extension = 0.30;     // [-] the same in the safe-stop crouch (raised if the limits forbid it)
   // Gait period 0: derived by Froude scaling, 2.4 sqrt(leg length / g) (Go1: 0.50 s, a 0.28 m
   // leg: 0.41 s; measured on both, 0.45 s rolled the light one 2.6 deg RMS at 0.3 m/s, 0.41 s 0.9).
