@@ -1,0 +1,155 @@
+"""Identification of an arm from excitation logs, against its robot file as the nominal model.
+
+Per tick k of a log (measured q, qd, commanded tau, 1 kHz), with the acceleration a_k = (qd_k+1 -
+qd_k) / dt (a forward difference: the non-causal filter that is exact for a semi-implicit step,
+where the damping acts on the step's end velocity qd_k+1; MuJoCo's implicitfast):
+
+    applied_j(tau, delay, lag)_k - ID_nominal(q_k, qd_k, a_k)_j
+        = armature_j a_kj + damping_j qd_k+1,j + coulomb_j sign(qd_k+1,j) + Y_j(q_k, qd_k, a_k) pi
+
+ID_nominal: the rigid-body inverse dynamics of the nominal file's URDF (no joint damping,
+friction or armature; MuJoCo's mj_inverse); Y pi: a payload rigidly on the chain's last link, its
+ten inertial parameters (regressors.py). Rows where a joint turns (|qd| under MIN_SPEED at either
+end of the step: Coulomb friction is a set-valued force there) leave that joint's equation out.
+The actuation delay (whole ticks) and lag minimise the residual (fit.py); then the bounded fit
+gives the parameters (frictions, armatures and the payload mass >= 0).
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..errors import InputError
+from ..sil.arm_family import build_plant
+from ..sil.log import SignalLog
+from .fit import LinearModel
+from .motor import applied
+from .regressors import N_INERTIAL, BodyRegressor, split_parameters
+
+DT = 0.001            # [s] the logs' tick (checked against their t)
+MIN_SPEED = 0.05      # [rad/s] below it a joint's equation is left out (friction is set-valued)
+STRIDE = 3            # ticks between the rows used (consecutive ticks add little information)
+SKIP = 0.2            # [s] left out at a log's start (the controller's first transient)
+MAX_DELAY = 0.08      # [s] searched
+MAX_LAG = 0.05        # [s] searched
+# A payload lighter than this share of the last link's mass, or not significant (under
+# SIGNIFICANCE standard errors), is reported as none.
+MIN_PAYLOAD_FRACTION = 0.01
+SIGNIFICANCE = 3.0
+
+
+@dataclass
+class ArmIdentification:
+    joint_names: list
+    armature: np.ndarray          # [kg m^2]
+    damping: np.ndarray           # [N m s/rad]
+    frictionloss: np.ndarray      # [N m]
+    stderr: dict                  # name -> (nq,) or scalar standard errors
+    payload_mass: float           # [kg] (0: none found)
+    payload_com: np.ndarray       # [m] in the last link's frame
+    payload_inertia: np.ndarray | None  # [kg m^2] about its CoM; None: not positive definite
+    payload_link: str
+    delay: float                  # [s]
+    delay_ticks: int
+    lag: float                    # [s]
+    residual_rms: float           # [N m] of the fit
+    residual_by_delay: np.ndarray = field(repr=False, default=None)
+    rows: int = 0
+
+    def as_dict(self) -> dict:
+        def lst(x):
+            return None if x is None else np.asarray(x, float).tolist()
+        return {"joints": self.joint_names, "armature": lst(self.armature),
+                "damping": lst(self.damping), "frictionloss": lst(self.frictionloss),
+                "payload": {"link": self.payload_link, "mass": self.payload_mass,
+                            "com": lst(self.payload_com), "inertia": lst(self.payload_inertia)},
+                "delay": self.delay, "delay_ticks": self.delay_ticks, "lag": self.lag,
+                "stderr": {k: lst(v) for k, v in self.stderr.items()},
+                "residual_rms": self.residual_rms, "rows": self.rows}
+
+
+def _rows(plant, regressor, log: SignalLog):
+    """The regressor's per-tick pieces of one log: tick indices, accelerations, end velocities,
+    nominal inverse dynamics, payload regressors."""
+    for name in ("t", "q", "qd", "tau"):
+        if name not in log:
+            raise InputError(f"identify: the log has no {name!r} signal (an arm's log needs t, "
+                             "q, qd, tau)")
+    t, q, qd, tau = (np.asarray(log[n], float) for n in ("t", "q", "qd", "tau"))
+    if q.shape[1] != plant.nq or tau.shape[1] != plant.nq:
+        raise InputError(f"identify: the log has {q.shape[1]} joints, the robot {plant.nq}")
+    steps = np.diff(t)
+    if len(t) < 100 or np.max(np.abs(steps - DT)) > 1e-6:
+        raise InputError(f"identify: the log must be sampled every {DT} s (at least 100 ticks)")
+    k = np.arange(int(round(SKIP / DT)), len(t) - 1, STRIDE)
+    acc = (qd[k + 1] - qd[k]) / DT
+    v_end = qd[k + 1]
+    moving = (np.abs(qd[k]) > MIN_SPEED) & (np.abs(v_end) > MIN_SPEED) & (
+        np.sign(qd[k]) == np.sign(v_end))
+    inv = np.array([plant.inverse_dynamics(q[i], qd[i], a) for i, a in zip(k, acc)])
+    Y = np.array([regressor(q[i], qd[i], a) for i, a in zip(k, acc)])
+    return k, acc, v_end, moving, inv, Y, tau
+
+
+def identify_arm(robot, logs: list[SignalLog], *, payload: bool = True) -> ArmIdentification:
+    """Estimates from `logs` what `robot` (the nominal file) should say; see the module doc."""
+    # The nominal rigid body: the file's URDF, no joint damping, friction or armature.
+    plant = build_plant(robot, damping=0.0, frictionloss=0.0, armature=0.0)
+    m, nq = plant.model, plant.nq
+    last = int(m.jnt_bodyid[m.joint(plant.joint_names[-1]).id])
+    regressor = BodyRegressor(m, last, plant.qpos_addresses, plant.dof_addresses)
+    pieces = [_rows(plant, regressor, log) for log in logs]
+
+    # Phi: one row per (tick, joint) where the joint moves; columns armature (nq), damping (nq),
+    # Coulomb (nq), payload (10).
+    n_theta = 3 * nq + (N_INERTIAL if payload else 0)
+    blocks, selectors = [], []
+    for k, acc, v_end, moving, inv, Y, tau in pieces:
+        rows = np.zeros((len(k), nq, n_theta))
+        j = np.arange(nq)
+        rows[:, j, j] = acc
+        rows[:, j, nq + j] = v_end
+        rows[:, j, 2 * nq + j] = np.sign(v_end)
+        if payload:
+            rows[:, :, 3 * nq:] = Y
+        blocks.append(rows[moving])
+        selectors.append(moving)
+    phi = np.concatenate(blocks)
+    if len(phi) < 10 * n_theta:
+        raise InputError(f"identify: only {len(phi)} usable samples (joints moving faster "
+                         f"than {MIN_SPEED} rad/s); excite longer or faster")
+
+    def target(delay_ticks: int, lag: float) -> np.ndarray:
+        out = []
+        for (k, acc, v_end, moving, inv, Y, tau), sel in zip(pieces, selectors):
+            u = applied(tau, delay_ticks, lag, DT)[k]
+            out.append((u - inv)[sel])
+        return np.concatenate(out)
+
+    lower = np.concatenate([np.zeros(3 * nq), [0.0] if payload else [],
+                            np.full(N_INERTIAL - 1 if payload else 0, -np.inf)])
+    model = LinearModel(phi, target, lower, np.full(n_theta, np.inf))
+    d, lag, by_delay = model.search(int(round(MAX_DELAY / DT)), MAX_LAG)
+    sol = model.solve(d, lag, by_delay)
+    th, se = sol.theta, sol.stderr
+
+    pm, com, inertia = 0.0, np.zeros(3), None
+    link_mass = float(m.body_mass[last])
+    if payload:
+        pi = th[3 * nq:]
+        if pi[0] > MIN_PAYLOAD_FRACTION * link_mass and pi[0] > SIGNIFICANCE * se[3 * nq]:
+            pm, com, inertia = split_parameters(pi)
+            # The inertia is reported only where it is one (positive definite about the CoM).
+            if not np.all(np.linalg.eigvalsh(inertia) > 0):
+                inertia = None
+    stderr = {"armature": se[:nq], "damping": se[nq:2 * nq], "frictionloss": se[2 * nq:3 * nq]}
+    if payload:
+        stderr["payload_mass"] = float(se[3 * nq])
+        stderr["payload_first_moment"] = se[3 * nq + 1:3 * nq + 4]
+    return ArmIdentification(
+        joint_names=list(plant.joint_names), armature=th[:nq], damping=th[nq:2 * nq],
+        frictionloss=th[2 * nq:3 * nq], stderr=stderr, payload_mass=float(pm),
+        payload_com=com, payload_inertia=inertia, payload_link=m.body(last).name,
+        delay=d * DT, delay_ticks=d, lag=lag, residual_rms=sol.residual_rms,
+        residual_by_delay=by_delay, rows=len(phi))

@@ -1,0 +1,44 @@
+"""`kiloloop excite`: an excitation run of a robot in the SIL, logged as a real robot's logger
+would log it (commanded torques or thrusts, measured joint positions and velocities, IMU).
+
+The plant is the robot file's own ([sim.*] tables, URDF, declared delay): a file with hidden
+"true" parameters makes the logs that `kiloloop identify` then reads against the nominal file.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from ..sil.log import SignalLog
+
+DEFAULT_DURATION = 30.0  # [s] the issue's budget of excitation
+
+
+def excite(robot, duration: float = DEFAULT_DURATION, seed: int = 0,
+           delay: float | None = None, motor_lag: float = 0.0) -> SignalLog:
+    """The excitation log of `robot` (a kl.Robot). delay [s]: the plant's actuation delay (None:
+    what the file declares, declared.py); motor_lag [s]: a first-order lag of the produced
+    torque or thrust (0: none; a multirotor's rotors have their own time constants)."""
+    from .declared import declared_delay
+
+    delay = declared_delay(robot) if delay is None else float(delay)
+    if robot.kind == "arm":
+        from .excite_arm import run
+    elif robot.kind == "aerial":
+        from .excite_aerial import run
+    else:
+        from ..errors import InputError
+
+        raise InputError(f"excite: no excitation for a {robot.kind} yet (arms, multirotors)")
+    log = run(robot, duration, seed, delay, motor_lag)
+    log.info = {"excitation": {"robot": robot.name, "kind": robot.kind, "duration": duration,
+                               "seed": int(seed)}}
+    return log
+
+
+def keep(log: SignalLog, names, out: SignalLog | None = None) -> SignalLog:
+    """A log of the named signals only (what a logger has; ground truth left out), described."""
+    out = SignalLog() if out is None else out
+    for name, (unit, label) in names.items():
+        out.put_array(name, np.asarray(log[name], float))
+        out.describe(name, unit, label=label)
+    return out
