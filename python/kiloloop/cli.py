@@ -427,6 +427,8 @@ def _build_parser() -> argparse.ArgumentParser:
     pil.add_argument("--json", action="store_true",
                      help="print the result as JSON (and nothing else)")
     pil.set_defaults(func=cmd_pil)
+    from .ident.cli import add_parsers as add_identification  # excite, identify
+    add_identification(sub)
     return parser
 
 

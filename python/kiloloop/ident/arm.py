@@ -9,8 +9,12 @@ where the damping acts on the step's end velocity qd_k+1; MuJoCo's implicitfast)
 
 ID_nominal: the rigid-body inverse dynamics of the nominal file's URDF (no joint damping,
 friction or armature; MuJoCo's mj_inverse); Y pi: a payload rigidly on the chain's last link, its
-ten inertial parameters (regressors.py). Rows where a joint turns (|qd| under MIN_SPEED at either
-end of the step: Coulomb friction is a set-valued force there) leave that joint's equation out.
+ten inertial parameters (regressors.py). Rows where a joint moves slowly (|qd| under SPEED_FRACTION
+of its peak speed in that log, or under MIN_SPEED, at either end of the step) leave that joint's
+equation out: friction is not Coulomb's there, neither a real drive's (Stribeck, stiction) nor
+MuJoCo's frictionloss, a soft constraint whose force grows with the speed up to the friction
+(measured on the UR5's wrist, 3 N m of friction behind 0.025 kg m^2: 2.7 N m on average between
+0.05 and 0.1 rad/s, 2.9 N m up to 0.2 rad/s, exactly 3 N m above).
 The actuation delay (whole ticks) and lag minimise the residual (fit.py); then the bounded fit
 gives the parameters (frictions, armatures and the payload mass >= 0).
 """
@@ -29,6 +33,7 @@ from .regressors import N_INERTIAL, BodyRegressor, split_parameters
 
 DT = 0.001            # [s] the logs' tick (checked against their t)
 MIN_SPEED = 0.05      # [rad/s] below it a joint's equation is left out (friction is set-valued)
+SPEED_FRACTION = 0.3  # of a joint's peak speed in the log: slower rows are left out too
 STRIDE = 3            # ticks between the rows used (consecutive ticks add little information)
 SKIP = 0.2            # [s] left out at a log's start (the controller's first transient)
 MAX_DELAY = 0.08      # [s] searched
@@ -85,7 +90,8 @@ def _rows(plant, regressor, log: SignalLog):
     k = np.arange(int(round(SKIP / DT)), len(t) - 1, STRIDE)
     acc = (qd[k + 1] - qd[k]) / DT
     v_end = qd[k + 1]
-    moving = (np.abs(qd[k]) > MIN_SPEED) & (np.abs(v_end) > MIN_SPEED) & (
+    slowest = np.maximum(MIN_SPEED, SPEED_FRACTION * np.max(np.abs(qd), axis=0))
+    moving = (np.abs(qd[k]) > slowest) & (np.abs(v_end) > slowest) & (
         np.sign(qd[k]) == np.sign(v_end))
     inv = np.array([plant.inverse_dynamics(q[i], qd[i], a) for i, a in zip(k, acc)])
     Y = np.array([regressor(q[i], qd[i], a) for i, a in zip(k, acc)])
@@ -153,3 +159,47 @@ def identify_arm(robot, logs: list[SignalLog], *, payload: bool = True) -> ArmId
         payload_com=com, payload_inertia=inertia, payload_link=m.body(last).name,
         delay=d * DT, delay_ticks=d, lag=lag, residual_rms=sol.residual_rms,
         residual_by_delay=by_delay, rows=len(phi))
+
+
+def patch_data(robot, ident: ArmIdentification, out_path) -> dict:
+    """The robot file's tables with the identification in them (patch.py); a payload goes into
+    a copy of the URDF beside out_path (payload_urdf.py)."""
+    from pathlib import Path
+
+    from .patch import robot_data, set_delay, set_joints
+    from .payload_urdf import write_with_payload
+
+    out_path = Path(out_path)
+    data = robot_data(robot, out_path)
+    set_joints(data, ident.damping, ident.frictionloss, ident.armature)
+    set_delay(data, "arm", ident.delay)
+    if ident.payload_mass > 0:
+        urdf = out_path.with_suffix(".urdf")
+        write_with_payload(robot.urdf, urdf, ident.payload_link, ident.payload_mass,
+                           ident.payload_com, ident.payload_inertia)
+        data["urdf"] = urdf.name
+    return data
+
+
+def summary(ident: ArmIdentification) -> list[str]:
+    """Lines for people (and the patch's header): each estimate with its standard error."""
+    def row(name, values, errors, unit):
+        return (f"{name:<13}" + " ".join(f"{v:9.4g}" for v in values) + f"  [{unit}]  +- "
+                + " ".join(f"{e:.2g}" for e in errors))
+    se = ident.stderr
+    lines = ["joints       " + " ".join(f"{n[:9]:>9}" for n in ident.joint_names),
+             row("damping", ident.damping, se["damping"], "N m s/rad"),
+             row("frictionloss", ident.frictionloss, se["frictionloss"], "N m"),
+             row("armature", ident.armature, se["armature"], "kg m^2")]
+    if ident.payload_mass > 0:
+        c = ident.payload_com
+        lines.append(f"payload      {ident.payload_mass:.4g} kg +- {se['payload_mass']:.2g} on "
+                     f"{ident.payload_link}, CoM [{c[0]:.4g}, {c[1]:.4g}, {c[2]:.4g}] m, inertia "
+                     + ("positive definite" if ident.payload_inertia is not None
+                        else "not positive definite: a point mass"))
+    else:
+        lines.append("payload      none found")
+    lines.append(f"delay        {ident.delay * 1e3:.0f} ms ({ident.delay_ticks} ticks), lag "
+                 f"{ident.lag * 1e3:.2f} ms (not written: an arm's file has no key for it)")
+    lines.append(f"residual     {ident.residual_rms:.3g} N m RMS over {ident.rows} equations")
+    return lines

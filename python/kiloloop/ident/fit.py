@@ -54,10 +54,11 @@ class LinearModel:
                 lo, hi = max(0, d - 15), min(max_delay_ticks, d + 15)
                 local = [self.rms(self.target(k, lag)) for k in range(lo, hi + 1)]
                 d_new = lo + int(np.argmin(local))
+                rms = rms.copy()
+                rms[lo:hi + 1] = local
                 if d_new == d:
                     break
                 d = d_new
-            rms = by_delay(lag)
         return d, lag, rms
 
     def solve(self, delay_ticks: int, lag: float, rms_by_delay) -> Solution:
