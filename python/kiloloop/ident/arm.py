@@ -34,7 +34,7 @@ from .regressors import N_INERTIAL, BodyRegressor, split_parameters
 DT = 0.001            # [s] the logs' tick (checked against their t)
 MIN_SPEED = 0.05      # [rad/s] below it a joint's equation is left out (friction is set-valued)
 SPEED_FRACTION = 0.3  # of a joint's peak speed in the log: slower rows are left out too
-STRIDE = 3            # ticks between the rows used (consecutive ticks add little information)
+STRIDE = 4            # ticks between the rows used (consecutive ticks add little information)
 SKIP = 0.2            # [s] left out at a log's start (the controller's first transient)
 MAX_DELAY = 0.08      # [s] searched
 MAX_LAG = 0.05        # [s] searched
@@ -60,7 +60,8 @@ class ArmIdentification:
     lag: float                    # [s]
     residual_rms: float           # [N m] of the fit
     residual_by_delay: np.ndarray = field(repr=False, default=None)
-    rows: int = 0
+    rows: int = 0                 # equations used
+    trimmed: int = 0              # equations left out as outliers (fit.py)
 
     def as_dict(self) -> dict:
         def lst(x):
@@ -71,7 +72,8 @@ class ArmIdentification:
                             "com": lst(self.payload_com), "inertia": lst(self.payload_inertia)},
                 "delay": self.delay, "delay_ticks": self.delay_ticks, "lag": self.lag,
                 "stderr": {k: lst(v) for k, v in self.stderr.items()},
-                "residual_rms": self.residual_rms, "rows": self.rows}
+                "residual_rms": self.residual_rms, "rows": self.rows,
+                "trimmed": self.trimmed}
 
 
 def _rows(plant, regressor, log: SignalLog):
@@ -106,11 +108,12 @@ def identify_arm(robot, logs: list[SignalLog], *, payload: bool = True) -> ArmId
     last = int(m.jnt_bodyid[m.joint(plant.joint_names[-1]).id])
     regressor = BodyRegressor(m, last, plant.qpos_addresses, plant.dof_addresses)
     pieces = [_rows(plant, regressor, log) for log in logs]
+    effort = np.asarray(robot.model().effort_limit, float)  # the drives saturate there
 
     # Phi: one row per (tick, joint) where the joint moves; columns armature (nq), damping (nq),
     # Coulomb (nq), payload (10).
     n_theta = 3 * nq + (N_INERTIAL if payload else 0)
-    blocks, selectors = [], []
+    blocks, selectors, groups = [], [], []
     for k, acc, v_end, moving, inv, Y, tau in pieces:
         rows = np.zeros((len(k), nq, n_theta))
         j = np.arange(nq)
@@ -121,6 +124,7 @@ def identify_arm(robot, logs: list[SignalLog], *, payload: bool = True) -> ArmId
             rows[:, :, 3 * nq:] = Y
         blocks.append(rows[moving])
         selectors.append(moving)
+        groups.append(np.broadcast_to(j, moving.shape)[moving])
     phi = np.concatenate(blocks)
     if len(phi) < 10 * n_theta:
         raise InputError(f"identify: only {len(phi)} usable samples (joints moving faster "
@@ -129,15 +133,15 @@ def identify_arm(robot, logs: list[SignalLog], *, payload: bool = True) -> ArmId
     def target(delay_ticks: int, lag: float) -> np.ndarray:
         out = []
         for (k, acc, v_end, moving, inv, Y, tau), sel in zip(pieces, selectors):
-            u = applied(tau, delay_ticks, lag, DT)[k]
+            u = applied(tau, delay_ticks, lag, DT, effort)[k]
             out.append((u - inv)[sel])
         return np.concatenate(out)
 
     lower = np.concatenate([np.zeros(3 * nq), [0.0] if payload else [],
                             np.full(N_INERTIAL - 1 if payload else 0, -np.inf)])
-    model = LinearModel(phi, target, lower, np.full(n_theta, np.inf))
-    d, lag, by_delay = model.search(int(round(MAX_DELAY / DT)), MAX_LAG)
-    sol = model.solve(d, lag, by_delay)
+    model = LinearModel(phi, target, lower, np.concatenate(groups))
+    sol = model.identify(int(round(MAX_DELAY / DT)), MAX_LAG)
+    d, lag, by_delay = sol.delay_ticks, sol.lag, sol.delay_residuals
     th, se = sol.theta, sol.stderr
 
     pm, com, inertia = 0.0, np.zeros(3), None
@@ -158,7 +162,7 @@ def identify_arm(robot, logs: list[SignalLog], *, payload: bool = True) -> ArmId
         frictionloss=th[2 * nq:3 * nq], stderr=stderr, payload_mass=float(pm),
         payload_com=com, payload_inertia=inertia, payload_link=m.body(last).name,
         delay=d * DT, delay_ticks=d, lag=lag, residual_rms=sol.residual_rms,
-        residual_by_delay=by_delay, rows=len(phi))
+        residual_by_delay=by_delay, rows=len(phi) - sol.trimmed, trimmed=sol.trimmed)
 
 
 def patch_data(robot, ident: ArmIdentification, out_path) -> dict:
@@ -201,5 +205,6 @@ def summary(ident: ArmIdentification) -> list[str]:
         lines.append("payload      none found")
     lines.append(f"delay        {ident.delay * 1e3:.0f} ms ({ident.delay_ticks} ticks), lag "
                  f"{ident.lag * 1e3:.2f} ms (not written: an arm's file has no key for it)")
-    lines.append(f"residual     {ident.residual_rms:.3g} N m RMS over {ident.rows} equations")
+    lines.append(f"residual     {ident.residual_rms:.3g} N m RMS over {ident.rows} equations "
+                 f"({ident.trimmed} outliers left out)")
     return lines

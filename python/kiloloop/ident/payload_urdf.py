@@ -37,8 +37,8 @@ def write_with_payload(urdf_path, out_path, link: str, mass: float, com, inertia
         inertial = ET.SubElement(child, "inertial")
         ET.SubElement(inertial, "origin", xyz=" ".join(repr(float(x)) for x in com), rpy="0 0 0")
         ET.SubElement(inertial, "mass", value=repr(float(mass)))
-        ET.SubElement(inertial, "inertia", ixx=repr(I[0, 0]), iyy=repr(I[1, 1]), izz=repr(I[2, 2]),
-                      ixy=repr(I[0, 1]), ixz=repr(I[0, 2]), iyz=repr(I[1, 2]))
+        ET.SubElement(inertial, "inertia", ixx=repr(float(I[0, 0])), iyy=repr(float(I[1, 1])), izz=repr(float(I[2, 2])),
+                      ixy=repr(float(I[0, 1])), ixz=repr(float(I[0, 2])), iyz=repr(float(I[1, 2])))
         joint = ET.Element("joint")
         ET.SubElement(joint, "origin", xyz="0 0 0", rpy="0 0 0")
         merge_into_parent(child, joint, _link(root, link))
