@@ -1,0 +1,89 @@
+"""kiloloop excite / identify on an arm: a UR5 whose true plant differs from its robot file
+(friction, armature, a payload on the last link, an actuation delay) is recovered from a short
+excitation log within the issue's tolerances, and the patch it writes loads as a robot file."""
+from __future__ import annotations
+
+import tomllib
+
+import numpy as np
+import pytest
+
+import kiloloop as kl
+from kiloloop.ident.arm import identify_arm
+from kiloloop.ident.excite import excite
+from kiloloop.ident.identify import identify
+from kiloloop.ident.payload_urdf import link_inertial
+from kiloloop.ident.truth import UR5_JOINTS, Hidden, nominal_joints, true_payload, write_true_robot
+
+HIDDEN = Hidden(friction_scale=2.0, armature_scale=0.5, payload_fraction=0.3, delay=0.021)
+
+
+@pytest.fixture(scope="module")
+def case(tmp_path_factory):
+    """(nominal robot, true robot, excitation log path): 6 s of excitation, seed 0."""
+    out = tmp_path_factory.mktemp("ident_arm")
+    nominal = kl.Robot.load("ur5", UR5_JOINTS)
+    true = kl.Robot.load(write_true_robot(nominal, HIDDEN, out / "true"))
+    log = excite(true, 6.0, seed=0)
+    log.save(out / "excite.npz")
+    return nominal, true, out / "excite.npz", out
+
+
+def test_recovers_the_hidden_plant_within_the_tolerances(case):
+    nominal, _, log_path, _ = case
+    ident, _, _ = identify(nominal, [log_path])
+    damping, friction, armature = nominal_joints(nominal)
+    s = HIDDEN.friction_scale
+    assert np.allclose(ident.damping, damping * s, rtol=0.05)
+    assert np.allclose(ident.frictionloss, friction * s, rtol=0.10)
+    assert np.allclose(ident.armature, armature * HIDDEN.armature_scale, rtol=0.10)
+    mass, com = true_payload(nominal, HIDDEN)
+    assert ident.payload_mass == pytest.approx(mass, rel=0.05)
+    assert np.linalg.norm(ident.payload_com - com) < 0.05 * np.linalg.norm(com)
+    assert abs(ident.delay - HIDDEN.delay) <= 0.001 + 1e-12
+
+
+def test_the_nominal_plant_itself_is_found_unchanged(case):
+    """Logs of the nominal plant: its own values, no payload, the file's delay (0)."""
+    nominal = case[0]
+    log = excite(nominal, 4.0, seed=1)
+    ident = identify_arm(nominal, [log])
+    damping, friction, armature = nominal_joints(nominal)
+    assert np.allclose(ident.damping, damping, rtol=0.05)
+    assert np.allclose(ident.frictionloss, friction, rtol=0.10)
+    assert np.allclose(ident.armature, armature, rtol=0.10)
+    assert ident.payload_mass == 0.0 and ident.delay_ticks == 0
+
+
+def test_the_patch_is_a_robot_file_with_the_estimates(case):
+    nominal, _, log_path, out = case
+    patch = out / "patch.toml"
+    ident, _, report = identify(nominal, [log_path], patch)
+    robot = kl.Robot.load(patch)
+    joints = robot.sim["joints"]
+    assert np.allclose(joints["damping"], ident.damping, rtol=1e-5)
+    assert np.allclose(joints["armature"], ident.armature, rtol=1e-5)
+    assert robot.scenario_overrides("arm-track")["measurement_delay"] == pytest.approx(ident.delay)
+    link = ident.payload_link
+    m0 = link_inertial(nominal.urdf, link)[0]
+    assert link_inertial(robot.urdf, link)[0] == pytest.approx(m0 + ident.payload_mass)
+    assert report["patch"] == str(patch)
+    # What the nominal file says and identification does not touch is kept.
+    assert robot.section("chain") == nominal.section("chain")
+    with open(patch, "rb") as f:
+        assert tomllib.load(f)["name"] == nominal.name
+
+
+def test_cli_excite_and_identify(tmp_path, capsys):
+    from kiloloop.cli import main
+
+    log = tmp_path / "e.mcap"
+    assert main(["excite", "ur5", "--out", str(log), "--duration", "2",
+                 "--set", "sim.joints.damping=1.5"]) == 0
+    assert main(["identify", "ur5", str(log), "--json"]) == 0
+    import json
+
+    report = json.loads(capsys.readouterr().out.split("\n", 1)[1])
+    assert report["damping"] == pytest.approx([1.5] * 6, rel=0.05)
+    assert main(["identify", "ur5", str(tmp_path / "missing.npz")]) == 2
+    assert main(["excite", "ur5", "--out", str(tmp_path / "e.txt")]) == 2
