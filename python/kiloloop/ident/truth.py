@@ -26,7 +26,8 @@ class Hidden:
     payload_fraction: float = 0.0   # an arm's last link made heavier by this share (all of its
     #                                 inertia scaled: a payload at the link's own CoM)
     delay: float | None = None      # [s] the actuation delay (None: the nominal file's)
-    thrust_scale: float = 1.0       # a multirotor's rotors: thrust per command x
+    thrust_scale: float = 1.0       # a multirotor's rotors: thrust per command x ([sim.rotors]
+    #                                 efficiency: the plant's, the controller does not read it)
 
 
 def nominal_joints(robot) -> tuple[np.ndarray, ...]:
@@ -35,11 +36,13 @@ def nominal_joints(robot) -> tuple[np.ndarray, ...]:
         from ..sil.arm_family import build_plant
 
         p = build_plant(robot)
+        dofs = p.dof_addresses
     else:
-        from ..sil.aerial_family import build_plant
+        from ..sil.aerial_plant import AerialPlant
 
-        p = build_plant(robot)
-    m, dofs = p.model, p.dof_addresses
+        p = AerialPlant.from_robot(robot)
+        dofs = p._dadr
+    m = p.model
     return m.dof_damping[dofs].copy(), m.dof_frictionloss[dofs].copy(), m.dof_armature[dofs].copy()
 
 
@@ -48,8 +51,8 @@ def write_true_robot(robot, hidden: Hidden, out_dir) -> Path:
     out_dir = Path(out_dir)
     out = out_dir / "robot.toml"
     data = robot_data(robot, out)
-    damping, friction, armature = nominal_joints(robot)
-    if len(damping):
+    if hidden.friction_scale != 1.0 or hidden.armature_scale != 1.0:
+        damping, friction, armature = nominal_joints(robot)
         set_joints(data, damping * hidden.friction_scale, friction * hidden.friction_scale,
                    armature * hidden.armature_scale)
     if hidden.delay is not None:
@@ -63,8 +66,10 @@ def write_true_robot(robot, hidden: Hidden, out_dir) -> Path:
         write_with_payload(robot.urdf, out_dir / "true.urdf", link, f * mass, com, f * inertia)
         data["urdf"] = "true.urdf"
     if hidden.thrust_scale != 1.0:
-        for rotor in data.get("rotors", []):
-            rotor["thrust_max"] = float(rotor["thrust_max"]) * hidden.thrust_scale
+        rotors = data.setdefault("sim", {}).setdefault("rotors", {})
+        n = len(data["rotors"])
+        efficiency = rotors.get("efficiency") or [1.0] * n
+        rotors["efficiency"] = [float(e) * hidden.thrust_scale for e in efficiency]
     return write(data, out, [f"A true robot with hidden parameters: {hidden}"])
 
 
