@@ -87,3 +87,25 @@ def test_cli_excite_and_identify(tmp_path, capsys):
     assert report["damping"] == pytest.approx([1.5] * 6, rel=0.05)
     assert main(["identify", "ur5", str(tmp_path / "missing.npz")]) == 2
     assert main(["excite", "ur5", "--out", str(tmp_path / "e.txt")]) == 2
+
+
+def test_a_scenario_log_identifies_what_it_moves_and_says_what_it_does_not(tmp_path):
+    """arm-track's own log (4.5 s, the wrists 5 and 6 barely move): the joints it moves are
+    found, the rest keep the nominal file's values and are named, and nothing raises."""
+    from kiloloop import scenarios
+
+    true = {**UR5_JOINTS, "sim.joints.damping": [10.0, 10.0, 6.0, 2.0, 2.0, 2.0]}
+    result = scenarios.run_named("arm-track", robot=kl.Robot.load("ur5", true),
+                                 overrides={"measurement_delay": 0.004})
+    result.log.save(tmp_path / "track.npz")
+    nominal = kl.Robot.load("ur5", UR5_JOINTS)
+    ident, lines, _ = identify(nominal, [tmp_path / "track.npz"])
+    assert ident.delay_ticks == 4
+    assert ident.damping[:3] == pytest.approx([10.0, 10.0, 6.0], rel=0.05)
+    held = [int(name.split("[")[1][:-1]) for name in ident.unidentified if "[" in name]
+    assert held  # wrists 2 and 3 (joints 4, 5) stay under 0.05 rad/s behind 1.5 N m of friction
+    damping, _, _ = nominal_joints(nominal)
+    for j in held:
+        assert ident.damping[j] == damping[j]
+    assert all(np.isinf(ident.stderr["damping"][j]) for j in held)
+    assert any("not identifiable" in line for line in lines) == bool(ident.unidentified)

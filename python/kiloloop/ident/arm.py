@@ -29,7 +29,7 @@ from ..sil.arm_family import build_plant
 from ..sil.log import SignalLog
 from .fit import LinearModel
 from .motor import applied
-from .regressors import N_INERTIAL, BodyRegressor, split_parameters
+from .regressors import N_INERTIAL, PARAMETER_NAMES, BodyRegressor, split_parameters
 
 DT = 0.001            # [s] the logs' tick (checked against their t)
 MIN_SPEED = 0.05      # [rad/s] below it a joint's equation is left out (friction is set-valued)
@@ -42,6 +42,7 @@ MAX_LAG = 0.05        # [s] searched
 # SIGNIFICANCE standard errors), is reported as none.
 MIN_PAYLOAD_FRACTION = 0.01
 SIGNIFICANCE = 3.0
+_NAMES = ("armature", "damping", "frictionloss")
 
 
 @dataclass
@@ -62,6 +63,7 @@ class ArmIdentification:
     residual_by_delay: np.ndarray = field(repr=False, default=None)
     rows: int = 0                 # equations used
     trimmed: int = 0              # equations left out as outliers (fit.py)
+    unidentified: list = field(default_factory=list)  # held at the nominal value (fit.py)
 
     def as_dict(self) -> dict:
         def lst(x):
@@ -73,7 +75,7 @@ class ArmIdentification:
                 "delay": self.delay, "delay_ticks": self.delay_ticks, "lag": self.lag,
                 "stderr": {k: lst(v) for k, v in self.stderr.items()},
                 "residual_rms": self.residual_rms, "rows": self.rows,
-                "trimmed": self.trimmed}
+                "trimmed": self.trimmed, "unidentified": self.unidentified}
 
 
 def _rows(plant, regressor, log: SignalLog):
@@ -139,14 +141,20 @@ def identify_arm(robot, logs: list[SignalLog], *, payload: bool = True) -> ArmId
 
     lower = np.concatenate([np.zeros(3 * nq), [0.0] if payload else [],
                             np.full(N_INERTIAL - 1 if payload else 0, -np.inf)])
-    model = LinearModel(phi, target, lower, np.concatenate(groups))
+    # What the logs cannot tell apart stays at the nominal file's value (its [sim.joints]; no
+    # payload).
+    nominal = build_plant(robot).model
+    dofs = plant.dof_addresses
+    prior = np.concatenate([nominal.dof_armature[dofs], nominal.dof_damping[dofs],
+                            nominal.dof_frictionloss[dofs], np.zeros(n_theta - 3 * nq)])
+    model = LinearModel(phi, target, lower, np.concatenate(groups), prior)
     sol = model.identify(int(round(MAX_DELAY / DT)), MAX_LAG)
     d, lag, by_delay = sol.delay_ticks, sol.lag, sol.delay_residuals
     th, se = sol.theta, sol.stderr
 
     pm, com, inertia = 0.0, np.zeros(3), None
     link_mass = float(m.body_mass[last])
-    if payload:
+    if payload and model.identifiable[3 * nq]:
         pi = th[3 * nq:]
         if pi[0] > MIN_PAYLOAD_FRACTION * link_mass and pi[0] > SIGNIFICANCE * se[3 * nq]:
             pm, com, inertia = split_parameters(pi)
@@ -162,7 +170,10 @@ def identify_arm(robot, logs: list[SignalLog], *, payload: bool = True) -> ArmId
         frictionloss=th[2 * nq:3 * nq], stderr=stderr, payload_mass=float(pm),
         payload_com=com, payload_inertia=inertia, payload_link=m.body(last).name,
         delay=d * DT, delay_ticks=d, lag=lag, residual_rms=sol.residual_rms,
-        residual_by_delay=by_delay, rows=len(phi) - sol.trimmed, trimmed=sol.trimmed)
+        residual_by_delay=by_delay, rows=len(phi) - sol.trimmed, trimmed=sol.trimmed,
+        unidentified=[_NAMES[i // nq] + (f"[{i % nq}]" if i < 3 * nq else "")
+                      if i < 3 * nq else f"payload {PARAMETER_NAMES[i - 3 * nq]}"
+                      for i in np.nonzero(~model.identifiable)[0]])
 
 
 def patch_data(robot, ident: ArmIdentification, out_path) -> dict:
@@ -205,6 +216,9 @@ def summary(ident: ArmIdentification) -> list[str]:
         lines.append("payload      none found")
     lines.append(f"delay        {ident.delay * 1e3:.0f} ms ({ident.delay_ticks} ticks), lag "
                  f"{ident.lag * 1e3:.2f} ms (not written: an arm's file has no key for it)")
+    if ident.unidentified:
+        lines.append("not identifiable from these logs (the nominal value kept): "
+                     + ", ".join(ident.unidentified))
     lines.append(f"residual     {ident.residual_rms:.3g} N m RMS over {ident.rows} equations "
                  f"({ident.trimmed} outliers left out)")
     return lines

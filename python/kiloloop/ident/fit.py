@@ -35,6 +35,21 @@ def golden_section(f, lo: float, hi: float, tol: float) -> tuple[float, float]:
     return (c, fc) if fc < fd else (d, fd)
 
 
+def identifiable_columns(phi: np.ndarray) -> np.ndarray:
+    """(columns,) bool: the parameters the rows tell apart. phi's columns at unit norm (or 0);
+    while its smallest singular value is under CONDITION of the largest, the column that weighs
+    most in that direction is left out (a joint that never moved, a payload parameter these
+    motions do not excite)."""
+    keep = np.linalg.norm(phi, axis=0) > 0
+    while keep.any():
+        idx = np.nonzero(keep)[0]
+        _, sv, vt = np.linalg.svd(phi[:, idx], full_matrices=False)
+        if sv[-1] > CONDITION * sv[0]:
+            break
+        keep[idx[int(np.argmax(np.abs(vt[-1])))]] = False
+    return keep
+
+
 def bounded_lstsq(phi: np.ndarray, y: np.ndarray, lower: np.ndarray) -> np.ndarray:
     """min |phi theta - y| with theta_i >= lower_i (lower -inf: free): the most violating
     parameter is held at its bound and the rest solved again, until none violates."""
@@ -51,6 +66,7 @@ def bounded_lstsq(phi: np.ndarray, y: np.ndarray, lower: np.ndarray) -> np.ndarr
         held[int(np.argmax(violation))] = True
     return theta
 
+CONDITION = 1e-7   # smallest singular value over the largest (columns scaled to unit norm) kept
 OUTLIER = 5.0       # robust standard deviations (1.4826 MAD) of a group's residuals
 TRIM_PASSES = 3
 NEAR = 8            # [ticks] delays searched again around a first answer
@@ -71,14 +87,33 @@ class LinearModel:
     """target(delay, lag) ~ Phi theta, theta >= lower; groups: a label per row (the
     outliers' scale is each group's own)."""
 
-    def __init__(self, phi: np.ndarray, target, lower, groups=None):
-        self.scale = np.linalg.norm(phi, axis=0)
-        self.scale[self.scale == 0] = 1.0
-        self.phi_all = phi / self.scale
+    def __init__(self, phi: np.ndarray, target, lower, groups=None, prior=None):
+        """prior: the values (the nominal file's) a parameter the logs cannot tell apart is
+        held at (default 0)."""
+        n = phi.shape[1]
+        self.prior = np.zeros(n) if prior is None else np.asarray(prior, float)
+        scale = np.linalg.norm(phi, axis=0)
+        scaled = phi / np.where(scale > 0, scale, 1.0)
+        self.identifiable = identifiable_columns(scaled)
+        held = ~self.identifiable
+        self._raw_target = target
+        self._held_part = phi[:, held] @ self.prior[held]
+        self.columns = np.nonzero(self.identifiable)[0]
+        self.scale = scale[self.columns]
+        self.phi_all = scaled[:, self.columns]
         self.groups = np.zeros(len(phi), int) if groups is None else np.asarray(groups)
-        self.target_all = target
-        self.lower = np.asarray(lower, float)
+        self.lower = np.asarray(lower, float)[self.columns]
         self.keep(np.ones(len(phi), bool))
+
+    def target_all(self, delay_ticks: int, lag: float) -> np.ndarray:
+        """The target less what the held parameters explain."""
+        return self._raw_target(delay_ticks, lag) - self._held_part
+
+    def full(self, theta: np.ndarray, fill: np.ndarray) -> np.ndarray:
+        """A vector over every parameter: theta on the identifiable ones, fill on the rest."""
+        out = np.array(fill, float, copy=True)
+        out[self.columns] = theta
+        return out
 
     def keep(self, rows: np.ndarray) -> None:
         self.rows = rows
@@ -148,7 +183,8 @@ class LinearModel:
         rinv = np.linalg.inv(self.r)
         stderr = np.sqrt(s2 * np.sum(rinv ** 2, axis=1)) / self.scale
         scaled = bounded_lstsq(self.phi, y, self.lower * self.scale)
-        theta = scaled / self.scale
+        theta = self.full(scaled / self.scale, self.prior)
+        stderr = self.full(stderr, np.full(len(self.prior), np.inf))
         res = y - self.phi @ scaled
         return Solution(theta, stderr, float(np.sqrt(np.mean(res ** 2))), int(delay_ticks),
                         float(lag), np.asarray(rms_by_delay), int(np.sum(~self.rows)))

@@ -18,7 +18,8 @@ delay and lags, which are searched (the delay over whole ticks, the lags by gold
 The motion: orientation and angular velocity from the IMU (its site's pose on the base from the
 file), angular acceleration a forward difference of the gyro, the linear acceleration the
 accelerometer's specific force at the site plus gravity, moved to the base origin; position and
-velocity from motion capture; the arm's joints from its encoders.
+velocity from motion capture; the arm's joints from its encoders. A scenario's log (no IMU, the
+base's state instead: `kiloloop run aerial-hover --log`) is read too.
 """
 from __future__ import annotations
 
@@ -64,35 +65,64 @@ def _quat_mat(q) -> np.ndarray:
     return R.reshape(3, 3)
 
 
-def _base_motion(plant, log: SignalLog, k: np.ndarray, arm_index: np.ndarray):
-    """(qpos, qvel, qacc) rows of the nominal plant at ticks k from the logged sensors."""
+def _imu_motion(plant, log: SignalLog):
+    """(N, 4) base orientation (w, x, y, z), (N, 3) base angular velocity (base frame) and
+    (N, 3) the base origin's linear acceleration of each tick (world) [m/s^2], from the IMU: the
+    accelerometer's sample of tick k + 1 is the step that ended there (tick k's acceleration),
+    its specific force at the site plus gravity, moved to the base origin."""
     m = plant.model
     site = m.site(plant.imu_site).id
     R_bs = _quat_mat(m.site_quat[site])          # base <- IMU site
     r_b = m.site_pos[site].copy()                # the IMU in the base frame [m]
     gyro, accel, quat = (np.asarray(log[n], float) for n in ("gyro", "accel", "imu_quat"))
-    pos, vel = np.asarray(log["base_pos"], float), np.asarray(log["base_vel"], float)
-    g = m.opt.gravity.copy()
-    nq = plant.nq
-    q = np.asarray(log["q"], float) if nq else np.zeros((len(gyro), 0))
-    qd = np.asarray(log["qd"], float) if nq else np.zeros((len(gyro), 0))
-    w_b = gyro @ R_bs.T                                       # base frame
-    alpha = (w_b[k + 1] - w_b[k]) / DT
-    qdd = (qd[k + 1] - qd[k]) / DT
-    out = []
-    for row, i in enumerate(k):
+    w_b = gyro @ R_bs.T
+    alpha = np.zeros_like(w_b)
+    alpha[:-1] = (w_b[1:] - w_b[:-1]) / DT
+    quats, acc = np.zeros((len(w_b), 4)), np.zeros((len(w_b), 3))
+    g = m.opt.gravity
+    for i in range(len(w_b) - 1):
         R_ws = _quat_mat(quat[i])
         R_wb = R_ws @ R_bs.T
-        quat_b = np.zeros(4)
-        mujoco.mju_mat2Quat(quat_b, R_wb.ravel())
-        w, al = w_b[i], alpha[row]
-        # The accelerometer's sample of tick k is the step that ended there (tick k's
-        # acceleration is the next sample's): the specific force at the site, plus gravity.
+        mujoco.mju_mat2Quat(quats[i], R_wb.ravel())
+        w, al = w_b[i], alpha[i]
         a_site = R_ws @ accel[i + 1] + g
-        a_origin = a_site - R_wb @ (np.cross(al, r_b) + np.cross(w, np.cross(w, r_b)))
-        qpos = np.concatenate([pos[i], quat_b, q[i][arm_index]])
-        qvel = np.concatenate([vel[i], w, qd[i][arm_index]])
-        qacc = np.concatenate([a_origin, al, qdd[row][arm_index]])
+        acc[i] = a_site - R_wb @ (np.cross(al, r_b) + np.cross(w, np.cross(w, r_b)))
+    quats[-1] = quats[-2]
+    return quats, w_b, acc
+
+
+def _state_motion(log: SignalLog):
+    """The same from a scenario's log without an IMU: its base_quat, base_omega (base frame)
+    and the forward difference of base_vel (the ground truth an aerial scenario logs)."""
+    vel = np.asarray(log["base_vel"], float)
+    acc = np.zeros_like(vel)
+    acc[:-1] = (vel[1:] - vel[:-1]) / DT
+    return np.asarray(log["base_quat"], float), np.asarray(log["base_omega"], float), acc
+
+
+IMU_SIGNALS = ("gyro", "accel", "imu_quat")
+STATE_SIGNALS = ("base_quat", "base_omega")
+
+
+def _base_motion(plant, log: SignalLog, k: np.ndarray, arm_index: np.ndarray):
+    """(qpos, qvel, qacc) rows of the nominal plant at ticks k from the logged sensors (the IMU
+    when the log has one, else the base's logged state)."""
+    quat, w_b, acc = (_imu_motion(plant, log) if all(n in log for n in IMU_SIGNALS)
+                      else _state_motion(log))
+    pos, vel = np.asarray(log["base_pos"], float), np.asarray(log["base_vel"], float)
+    alpha = (w_b[k + 1] - w_b[k]) / DT
+    nq = plant.nq
+    q = np.asarray(log["q"], float) if nq else np.zeros((len(pos), 0))
+    qd = np.asarray(log["qd"], float) if nq and "qd" in log else None
+    if nq and qd is None:  # a scenario's log: the encoders' positions only
+        qd = np.zeros_like(q)
+        qd[:-1] = (q[1:] - q[:-1]) / DT
+    qdd = (qd[k + 1] - qd[k]) / DT if nq else np.zeros((len(k), 0))
+    out = []
+    for row, i in enumerate(k):
+        qpos = np.concatenate([pos[i], quat[i], q[i][arm_index]])
+        qvel = np.concatenate([vel[i], w_b[i], qd[i][arm_index]])
+        qacc = np.concatenate([acc[i], alpha[row], qdd[row][arm_index]])
         out.append((qpos, qvel, qacc))
     return out
 
@@ -158,10 +188,14 @@ def identify_multirotor(robot, logs: list[SignalLog]) -> MultirotorIdentificatio
         np.zeros(0, int)
     pieces = []
     for log in logs:
-        for name in ("t", "thrust_cmd", "gyro", "accel", "imu_quat", "base_pos", "base_vel"):
+        needed = ("t", "thrust_cmd", "base_pos", "base_vel") + (
+            IMU_SIGNALS if not all(n in log for n in STATE_SIGNALS) else ())
+        for name in needed + (("q",) if plant.nq else ()):
             if name not in log:
                 raise InputError(f"identify: the log has no {name!r} signal (a multirotor's log "
-                                 "needs t, thrust_cmd, gyro, accel, imu_quat, base_pos, base_vel)")
+                                 "needs t, thrust_cmd, base_pos, base_vel, an IMU (gyro, accel, "
+                                 "imu_quat) or the base's state (base_quat, base_omega), and "
+                                 "the arm's q)")
         u = np.asarray(log["thrust_cmd"], float)
         if u.shape[1] != n:
             raise InputError(f"identify: the log has {u.shape[1]} rotors, the robot {n}")
