@@ -6,8 +6,6 @@ The plant is the robot file's own ([sim.*] tables, URDF, declared delay): a file
 """
 from __future__ import annotations
 
-import numpy as np
-
 from ..sil.log import SignalLog
 
 DEFAULT_DURATION = 30.0  # [s] the issue's budget of excitation
@@ -34,11 +32,3 @@ def excite(robot, duration: float = DEFAULT_DURATION, seed: int = 0,
                                "seed": int(seed)}}
     return log
 
-
-def keep(log: SignalLog, names, out: SignalLog | None = None) -> SignalLog:
-    """A log of the named signals only (what a logger has; ground truth left out), described."""
-    out = SignalLog() if out is None else out
-    for name, (unit, label) in names.items():
-        out.put_array(name, np.asarray(log[name], float))
-        out.describe(name, unit, label=label)
-    return out

@@ -17,7 +17,7 @@ from ..sil import native
 from ..sil.aerial_signals import reference_row
 from ..sil.rig import Rig
 from ..sil.signals import Signals
-from .excite import keep
+from .logged import keep
 
 STEP_EVERY = 1.2     # [s] between steps
 HORIZONTAL = 0.15    # [m] largest horizontal offset of a step

@@ -13,7 +13,7 @@ from ..sil.arm_adapters import JointTracking
 from ..sil.rig import Rig
 from ..sil.signals import Signals
 from .excitation import design
-from .excite import keep
+from .logged import keep
 
 # What a real arm's logger records, with units.
 LOGGED = {"t": ("s", "time"), "q": ("rad", "measured joint positions"),
@@ -37,7 +37,7 @@ def run(robot, duration: float, seed: int, delay: float, motor_lag: float):
     law = controller(robot, model, "computed_torque", q0)
     log = rig.run(duration, JointTracking(law, exc.trajectory()))
     out = keep(log, LOGGED)
-    for name in ("q", "qd", "tau", "q_ref"):
-        log_components = list(model.joint_names)
-        out.describe(name, *LOGGED[name][:1], components=log_components, label=LOGGED[name][1])
+    for name in ("q", "qd", "tau", "q_ref"):  # per joint: name the components
+        unit, label = LOGGED[name]
+        out.describe(name, unit, components=list(model.joint_names), label=label)
     return out
