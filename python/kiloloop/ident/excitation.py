@@ -20,7 +20,8 @@ HARMONICS = 5
 VIA_SPACING = 0.4      # [s] between the quintic's via points (5 per period of the top harmonic)
 MAX_EXCURSION = 0.9    # [rad] largest move of a joint away from the start pose
 VELOCITY_FRACTION = 0.5  # of each joint's velocity limit
-EFFORT_FRACTION = 0.5    # of each joint's effort limit (what the nominal model needs)
+EFFORT_FRACTION = 0.8    # of each joint's effort limit the nominal model may need (the rest: what it
+#                          does not know; the identification models the saturation anyway)
 ACCEL_LIMIT = 8.0      # [rad/s^2] (a reference the controller can follow without saturating)
 
 
@@ -54,15 +55,18 @@ def fourier_shape(nq: int, t: np.ndarray, seed: int) -> np.ndarray:
 
 
 def design(robot, model, plant, q0, duration: float, seed: int, probe=None) -> Excitation:
-    """The excitation of an arm from q0 [rad] for `duration` [s]: each joint's shape scaled into
-    its free range (at most MAX_EXCURSION), then every joint shrunk together until the quintic's
-    velocities, accelerations and nominal torques stay inside the limits' fractions and the links
-    stay clear of the floor (probe: a scenarios.arm_targets.PoseProbe, None: no floor check)."""
+    """The excitation of an arm from q0 [rad] for `duration` [s]: each joint's shape scaled on
+    its own into its free range (at most MAX_EXCURSION), its velocity limit's fraction and
+    ACCEL_LIMIT (the quintic through scaled via points is the scaled quintic: Craig's via
+    velocities are linear in a positive scale), then every joint shrunk together until the
+    nominal torques stay inside the effort limits' fraction and the links clear of the floor
+    (probe: a scenarios.arm_targets.PoseProbe, None: no floor check)."""
     from ..robot import arm as arm_defaults
 
     nq = model.nq
     times = np.arange(0.0, duration + 1e-9, VIA_SPACING)
     shape = fourier_shape(nq, times, seed)
+    shape[-1] = shape[-2]  # the quintic ends at rest anyway; keep its last segment short
     down, up = arm_defaults.joint_range(model, np.asarray(q0, float))
     up, down = np.minimum(up, MAX_EXCURSION), np.minimum(down, MAX_EXCURSION)
     # Per joint: the largest scale that keeps the shape inside [q0 - down, q0 + up].
@@ -70,32 +74,54 @@ def design(robot, model, plant, q0, duration: float, seed: int, probe=None) -> E
     scale = np.minimum(np.where(hi > 0, up / np.maximum(hi, 1e-12), np.inf),
                        np.where(lo > 0, down / np.maximum(lo, 1e-12), np.inf))
     scale = np.where(np.isfinite(scale), scale, 0.0)
+    _, qd, qdd = Excitation(shape, times).sampled(0.01)
+    vmax = VELOCITY_FRACTION * np.asarray(model.velocity_limit)
+    with np.errstate(divide="ignore"):
+        scale = np.minimum(scale, np.minimum(vmax / np.abs(qd).max(axis=0),
+                                             ACCEL_LIMIT / np.abs(qdd).max(axis=0)))
     clearance = None
     if probe is not None:
         probe.at(q0)
         clearance = min(probe.floor_clearance(), 0.02 * probe.reach) - 1e-9
-    for _ in range(40):
-        points = np.asarray(q0, float) + shape * scale
-        points[-1] = points[-2]  # the quintic ends at rest anyway; keep its last segment short
-        exc = Excitation(points, times)
-        if _inside(exc, model, plant, probe, clearance):
+    for _ in range(80):
+        exc = Excitation(np.asarray(q0, float) + shape * scale, times)
+        problem = _violation(exc, model, plant, probe, clearance)
+        if problem is None:
             return exc
-        scale = scale * 0.85
+        # Too much torque: every joint smaller. Too low: only the joints that lower the links
+        # at the lowest pose (a wrist that does not must keep its speed: its friction wants it).
+        scale = scale * (0.85 if problem == "effort" else
+                         np.where(_lowering(probe, q0, shape, scale, exc), 0.85, 1.0))
     raise ValueError("excitation: no scale of the trajectory stays inside the limits")
 
 
-def _inside(exc: Excitation, model, plant, probe, clearance) -> bool:
+def _lowering(probe, q0, shape, scale, exc) -> np.ndarray:
+    """(nq,) bool: the joints whose smaller excursion raises the links at the lowest via point
+    (at least the one that raises them most)."""
+    clear = []
+    for q in exc.points:
+        probe.at(q)
+        clear.append(probe.floor_clearance())
+    worst = int(np.argmin(clear))
+    gain = np.zeros(len(scale))
+    for j in range(len(scale)):
+        trial = scale.copy()
+        trial[j] *= 0.85
+        probe.at(np.asarray(q0, float) + shape[worst] * trial)
+        gain[j] = probe.floor_clearance() - clear[worst]
+    return gain >= 0.2 * max(gain.max(), 1e-12)
+
+
+def _violation(exc: Excitation, model, plant, probe, clearance) -> str | None:
+    """"effort", "floor" or None: what the sampled quintic breaks first."""
     q, qd, qdd = exc.sampled(0.01)
-    vmax = VELOCITY_FRACTION * np.asarray(model.velocity_limit)
-    if np.any(np.abs(qd) > vmax) or np.any(np.abs(qdd) > ACCEL_LIMIT):
-        return False
     emax = EFFORT_FRACTION * np.asarray(model.effort_limit)
     for i in range(0, len(q), 5):
         if np.any(np.abs(plant.inverse_dynamics(q[i], qd[i], qdd[i])) > emax):
-            return False
+            return "effort"
     if probe is not None:
         for i in range(0, len(q), 5):
             probe.at(q[i])
             if probe.floor_clearance() < clearance:
-                return False
-    return True
+                return "floor"
+    return None
