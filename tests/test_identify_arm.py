@@ -109,3 +109,22 @@ def test_a_scenario_log_identifies_what_it_moves_and_says_what_it_does_not(tmp_p
         assert ident.damping[j] == damping[j]
     assert all(np.isinf(ident.stderr["damping"][j]) for j in held)
     assert any("not identifiable" in line for line in lines) == bool(ident.unidentified)
+
+
+def test_another_arm_from_a_minimal_robot_file(tmp_path):
+    """example-robot-data's Panda (7 joints, 12 N m wrists, gravity taking half of joint 2's
+    effort), nothing tuned: the same recovery from 6 s."""
+    from robot_files import erd_urdf, minimal_arm
+
+    path = minimal_arm(tmp_path, erd_urdf("panda_description/urdf/panda.urdf"), "panda_link0",
+                       "panda_link8", "panda")
+    nominal = kl.Robot.load(path, {"sim.joints.damping": 1.0, "sim.joints.frictionloss": 1.0,
+                                   "sim.joints.armature": 0.05})
+    true = kl.Robot.load(write_true_robot(nominal, HIDDEN, tmp_path / "true"))
+    ident = identify_arm(nominal, [excite(true, 6.0, seed=2)])
+    s = HIDDEN.friction_scale
+    assert np.allclose(ident.damping, 1.0 * s, rtol=0.05)
+    assert np.allclose(ident.frictionloss, 1.0 * s, rtol=0.10)
+    assert np.allclose(ident.armature, 0.05 * HIDDEN.armature_scale, rtol=0.10)
+    assert ident.payload_mass == pytest.approx(true_payload(nominal, HIDDEN)[0], rel=0.05)
+    assert abs(ident.delay - HIDDEN.delay) <= 0.001 + 1e-12
