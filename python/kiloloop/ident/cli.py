@@ -21,6 +21,10 @@ def add_parsers(sub) -> None:
                     "(default: what the robot file declares for its family's scenarios)")
     ex.add_argument("--motor-lag", type=float, default=0.0,
                     help="a first-order lag [s] of the produced torque (an arm)")
+    ex.add_argument("--q-sigma", type=float, default=0.0, metavar="RAD",
+                    help="an arm's encoder noise on q [rad] (white, seeded)")
+    ex.add_argument("--qd-sigma", type=float, default=0.0, metavar="RAD_S",
+                    help="an arm's encoder noise on qd [rad/s]")
     ex.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",
                     help="robot-file keys, e.g. sim.joints.damping=2 (the plant)")
     ex.set_defaults(func=cmd_excite)
@@ -30,6 +34,8 @@ def add_parsers(sub) -> None:
     idf.add_argument("--out", default=None, metavar="PATCH.toml",
                      help="write the identified robot file here (use it with --robot)")
     idf.add_argument("--json", action="store_true", help="print the result as JSON only")
+    idf.add_argument("--smoothing", type=float, default=None, metavar="S",
+                     help="an arm's zero-phase filter half-width [s] (default 0.01; 0: none)")
     idf.set_defaults(func=cmd_identify)
 
 
@@ -54,7 +60,9 @@ def cmd_excite(args) -> int:
     duration = DEFAULT_DURATION if args.duration is None else float(args.duration)
     if not duration > 0:
         raise InputError(f"--duration {args.duration}: expected > 0")
-    log = excite(robot, duration, args.seed, delay=args.delay, motor_lag=args.motor_lag)
+    noise = {k: v for k, v in (("q_sigma", args.q_sigma), ("qd_sigma", args.qd_sigma)) if v}
+    log = excite(robot, duration, args.seed, delay=args.delay, motor_lag=args.motor_lag,
+                 noise=noise)
     log.save(args.out)
     print(f"excite {robot.name}: {duration:g} s, {len(log['t'])} ticks, signals "
           f"{', '.join(log.names())} -> {args.out}")
@@ -67,7 +75,9 @@ def cmd_identify(args) -> int:
     if args.out is not None and Path(args.out).suffix.lower() != ".toml":
         raise InputError(f"--out {args.out}: expected a .toml file")
     robot = _robot(args.robot)
-    _, lines, report = identify(robot, args.logs, args.out)
+    if args.smoothing is not None and not args.smoothing >= 0:
+        raise InputError(f"--smoothing {args.smoothing}: expected >= 0")
+    _, lines, report = identify(robot, args.logs, args.out, args.smoothing)
     if args.json:
         print(json.dumps(report, indent=2))
     else:

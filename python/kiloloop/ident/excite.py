@@ -12,22 +12,29 @@ DEFAULT_DURATION = 30.0  # [s] the issue's budget of excitation
 
 
 def excite(robot, duration: float = DEFAULT_DURATION, seed: int = 0,
-           delay: float | None = None, motor_lag: float = 0.0) -> SignalLog:
+           delay: float | None = None, motor_lag: float = 0.0, noise: dict | None = None
+           ) -> SignalLog:
     """The excitation log of `robot` (a kl.Robot). delay [s]: the plant's actuation delay (None:
     what the file declares, declared.py); motor_lag [s]: a first-order lag of the produced
-    torque or thrust (0: none; a multirotor's rotors have their own time constants)."""
+    torque or thrust (0: none; a multirotor's rotors have their own time constants); noise: an
+    arm's encoder noise, sil/signals.py fields (q_sigma [rad], qd_sigma [rad/s],
+    encoder_resolution [rad]; seeded by `seed`)."""
+    from ..errors import InputError
     from .declared import declared_delay
 
     delay = declared_delay(robot) if delay is None else float(delay)
     if robot.kind == "arm":
         from .excite_arm import run
+
+        log = run(robot, duration, seed, delay, motor_lag, noise or {})
     elif robot.kind == "aerial":
         from .excite_aerial import run
-    else:
-        from ..errors import InputError
 
+        if noise:
+            raise InputError("excite: sensor noise is an arm's option here")
+        log = run(robot, duration, seed, delay, motor_lag)
+    else:
         raise InputError(f"excite: no excitation for a {robot.kind} yet (arms, multirotors)")
-    log = run(robot, duration, seed, delay, motor_lag)
     log.info = {"excitation": {"robot": robot.name, "kind": robot.kind, "duration": duration,
                                "seed": int(seed)}}
     return log

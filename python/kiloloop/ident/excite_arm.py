@@ -21,8 +21,9 @@ LOGGED = {"t": ("s", "time"), "q": ("rad", "measured joint positions"),
           "tau": ("N m", "commanded joint torques"), "q_ref": ("rad", "reference")}
 
 
-def run(robot, duration: float, seed: int, delay: float, motor_lag: float):
-    rig = Rig(robot, Signals(motor_delay=delay, motor_time_constant=motor_lag), seed=seed)
+def run(robot, duration: float, seed: int, delay: float, motor_lag: float, noise: dict):
+    rig = Rig(robot, Signals(motor_delay=delay, motor_time_constant=motor_lag, **noise),
+              seed=seed)
     plant, model = rig.plant, rig.model
     q0 = work_pose(robot, model, plant)
     plant.q0 = q0

@@ -8,8 +8,10 @@ from ..errors import InputError
 from ..sil.log import SignalLog
 
 
-def identify(robot, log_paths, out_path=None) -> tuple[object, list[str], dict]:
-    """(the identification, summary lines, JSON-ready dict); writes the patch when out_path."""
+def identify(robot, log_paths, out_path=None, smoothing: float | None = None
+             ) -> tuple[object, list[str], dict]:
+    """(the identification, summary lines, JSON-ready dict); writes the patch when out_path.
+    smoothing [s]: an arm's zero-phase filter half-width (None: arm.SMOOTHING)."""
     logs = []
     for p in log_paths:
         if not Path(p).is_file():
@@ -18,7 +20,8 @@ def identify(robot, log_paths, out_path=None) -> tuple[object, list[str], dict]:
     if robot.kind == "arm":
         from . import arm as family
 
-        ident = family.identify_arm(robot, logs)
+        ident = (family.identify_arm(robot, logs) if smoothing is None
+                 else family.identify_arm(robot, logs, smoothing=smoothing))
     elif robot.kind == "aerial":
         from . import multirotor as family
 
