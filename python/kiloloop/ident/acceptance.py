@@ -41,10 +41,14 @@ def _tracking(robot_path, scenario: str, metric: str) -> tuple[float, np.ndarray
     return float(result.metrics[metric]), np.asarray(result.log["q_true"])
 
 
-def arm_row(nominal, hidden: Hidden, seed: int, work: Path) -> dict:
+# White encoder noise of `--encoder-noise` rows: q [rad], qd [rad/s].
+ENCODER_NOISE = {"q_sigma": 1e-5, "qd_sigma": 2e-3}
+
+
+def arm_row(nominal, hidden: Hidden, seed: int, work: Path, noise=None) -> dict:
     true_path = write_true_robot(nominal, hidden, work / "true")
     log_path = work / "excite.npz"
-    excite(kl.Robot.load(true_path), DURATION, seed).save(log_path)
+    excite(kl.Robot.load(true_path), DURATION, seed, noise=noise).save(log_path)
     patch = work / "identified.toml"
     ident, _, _ = identify(nominal, [log_path], patch)
     damping, friction, armature = nominal_joints(nominal)
@@ -78,13 +82,13 @@ def _nominal_file(nominal, work: Path) -> Path:
                  ["the nominal file of the acceptance"])
 
 
-def run_arm(seeds) -> list[dict]:
+def run_arm(seeds, noise=None) -> list[dict]:
     nominal = kl.Robot.load("ur5", UR5_JOINTS)
     rows = []
     for seed in seeds:
         for case, hidden in arm_cases(seed).items():
             with tempfile.TemporaryDirectory() as tmp:
-                row = {"case": case, **arm_row(nominal, hidden, seed, Path(tmp))}
+                row = {"case": case, **arm_row(nominal, hidden, seed, Path(tmp), noise)}
             rows.append(row)
             print(json.dumps(row), file=sys.stderr, flush=True)
     return rows
@@ -102,9 +106,11 @@ def main(argv=None) -> int:
     ap.add_argument("--family", choices=("arm", "aerial"), default="arm")
     ap.add_argument("--seeds", type=int, default=5)
     ap.add_argument("--json", default=None)
+    ap.add_argument("--encoder-noise", action="store_true",
+                    help=f"an arm's logs with white encoder noise {ENCODER_NOISE}")
     args = ap.parse_args(argv)
     if args.family == "arm":
-        rows = run_arm(range(args.seeds))
+        rows = run_arm(range(args.seeds), ENCODER_NOISE if args.encoder_noise else None)
         cols = ["case", "seed", "delay_true_ms", "delay_ms", "damping_err", "coulomb_err",
                 "armature_err", "payload_mass_err", "payload_com_err", "track_nominal",
                 "track_true", "track_identified", "track_err", "gap_nominal", "gap_identified"]
