@@ -142,3 +142,27 @@ def test_noisy_encoders_are_smoothed(case):
     assert abs(ident.delay - HIDDEN.delay) <= 0.001 + 1e-12
     raw = identify_arm(nominal, [log], smoothing=0.0)
     assert not np.allclose(raw.armature, armature * HIDDEN.armature_scale, rtol=0.10)
+
+
+@pytest.mark.parametrize("args, needle", [
+    (["excite", "ur5", "--out", "x.npz", "--duration", "inf"], "--duration"),
+    (["excite", "ur5", "--out", "x.npz", "--duration", "nan"], "--duration"),
+    (["excite", "ur5", "--out", "x.npz", "--seed", "-1"], "--seed"),
+    (["excite", "ur5", "--out", "x.npz", "--delay", "-0.01"], "--delay"),
+    (["excite", "quadruped", "--out", "x.npz", "--duration", "1"], "quadruped"),
+    (["identify", "ur5", "x.npz", "--smoothing", "nan"], "--smoothing"),
+    (["identify", "ur5", "x.npz", "--out", "p.txt"], "--out"),
+])
+def test_cli_input_errors_are_one_line_exit_2(capsys, args, needle):
+    from kiloloop.cli import main
+
+    assert main(args) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and needle in err[0], err
+
+
+def test_a_log_of_another_family_is_refused_with_what_is_missing(case, capsys):
+    from kiloloop.cli import main
+
+    assert main(["identify", "aerial_manipulator", str(case[2])]) == 2
+    assert "thrust_cmd" in capsys.readouterr().err

@@ -2,6 +2,7 @@
 from __future__ import annotations
 
 import json
+import math
 from pathlib import Path
 
 from ..errors import InputError
@@ -56,10 +57,16 @@ def cmd_excite(args) -> int:
 
     if Path(args.out).suffix.lower() not in LOG_SUFFIXES:
         raise InputError(f"--out {args.out}: expected a .npz or .mcap file")
-    robot = _robot(args.robot, args.set)
     duration = DEFAULT_DURATION if args.duration is None else float(args.duration)
-    if not duration > 0:
-        raise InputError(f"--duration {args.duration}: expected > 0")
+    if not (math.isfinite(duration) and duration > 0):
+        raise InputError(f"--duration {args.duration}: expected a finite number of seconds > 0")
+    if args.seed < 0:
+        raise InputError(f"--seed {args.seed}: expected >= 0")
+    for option, value in (("--delay", args.delay), ("--motor-lag", args.motor_lag),
+                          ("--q-sigma", args.q_sigma), ("--qd-sigma", args.qd_sigma)):
+        if value is not None and not (math.isfinite(value) and value >= 0):
+            raise InputError(f"{option} {value}: expected a finite number >= 0")
+    robot = _robot(args.robot, args.set)
     noise = {k: v for k, v in (("q_sigma", args.q_sigma), ("qd_sigma", args.qd_sigma)) if v}
     log = excite(robot, duration, args.seed, delay=args.delay, motor_lag=args.motor_lag,
                  noise=noise)
@@ -75,7 +82,7 @@ def cmd_identify(args) -> int:
     if args.out is not None and Path(args.out).suffix.lower() != ".toml":
         raise InputError(f"--out {args.out}: expected a .toml file")
     robot = _robot(args.robot)
-    if args.smoothing is not None and not args.smoothing >= 0:
+    if args.smoothing is not None and not (math.isfinite(args.smoothing) and args.smoothing >= 0):
         raise InputError(f"--smoothing {args.smoothing}: expected >= 0")
     _, lines, report = identify(robot, args.logs, args.out, args.smoothing)
     if args.json:
