@@ -83,7 +83,7 @@ def test_cli_excite_and_identify(tmp_path, capsys):
     assert main(["identify", "ur5", str(log), "--json"]) == 0
     import json
 
-    report = json.loads(capsys.readouterr().out.split("\n", 1)[1])
+    report = json.loads(capsys.readouterr().out.split("\n", 1)[1], parse_constant=pytest.fail)
     assert report["damping"] == pytest.approx([1.5] * 6, rel=0.05)
     assert main(["identify", "ur5", str(tmp_path / "missing.npz")]) == 2
     assert main(["excite", "ur5", "--out", str(tmp_path / "e.txt")]) == 2

@@ -73,8 +73,12 @@ class ArmIdentification:
     unidentified: list = field(default_factory=list)  # held at the nominal value (fit.py)
 
     def as_dict(self) -> dict:
-        def lst(x):
-            return None if x is None else np.asarray(x, float).tolist()
+        def lst(x):  # JSON has no infinity: an unidentified parameter's error is null
+            if x is None:
+                return None
+            a = np.asarray(x, float)
+            return float(a) if a.ndim == 0 and np.isfinite(a) else (
+                None if a.ndim == 0 else [v if np.isfinite(v) else None for v in a.tolist()])
         return {"joints": self.joint_names, "armature": lst(self.armature),
                 "damping": lst(self.damping), "frictionloss": lst(self.frictionloss),
                 "payload": {"link": self.payload_link, "mass": self.payload_mass,

@@ -54,7 +54,8 @@ class MultirotorIdentification:
     def as_dict(self) -> dict:
         return {"gain": self.gain.tolist(), "torque_coefficient": self.torque_coefficient.tolist(),
                 "time_constant": self.time_constant.tolist(),
-                "stderr": {k: np.asarray(v).tolist() for k, v in self.stderr.items()},
+                "stderr": {k: [e if np.isfinite(e) else None for e in np.asarray(v).tolist()]
+                           for k, v in self.stderr.items()},
                 "delay": self.delay, "delay_ticks": self.delay_ticks,
                 "residual_rms": self.residual_rms, "rows": self.rows}
 
