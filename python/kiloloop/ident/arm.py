@@ -39,12 +39,18 @@ STRIDE = 4            # ticks between the rows used (consecutive ticks add littl
 SKIP = 0.2            # [s] left out at a log's start (the controller's first transient)
 MAX_DELAY = 0.08      # [s] searched
 MAX_LAG = 0.05        # [s] searched
-# [s] half-width of the zero-phase filter on the log (arm.zero_phase). Measured on the UR5
+# [s] half-width of the zero-phase filter on a noisy log (arm.zero_phase). Measured on the UR5
 # (30 s, friction x2, armature x0.5, payload, 21 ms): with encoder noise of 2e-3 rad/s and
 # 1e-5 rad, no filter gives armatures of 0 to 20 times the truth and a 45 ms delay; 10 ms gives
-# every parameter within 4 % and the delay exact. On noise-free logs it costs 0.2 % (the
-# exact discrete equation holds between filtered signals only where M(q) varies slowly).
+# every parameter within 4 % and the delay exact. On a noise-free log it costs 0.2 % at 15 ms
+# of delay and up to 93 % at 28-33 ms (the loop rings there, and the friction's sign flips
+# inside the window: the equation holds between filtered signals only where q and the sign of
+# qd vary slowly across it), so it is used only where the log is noisy (NOISE_FLOOR).
 SMOOTHING = 0.01
+# [rad/s] white noise on qd above which the log is smoothed: its forward difference then carries
+# more than 0.014 rad/s^2 of noise. Estimated from the third difference of qd (std sqrt(20)
+# sigma for white noise; a smooth motion's is O(dt^3)), robustly (1.4826 MAD).
+NOISE_FLOOR = 1e-5
 # A payload lighter than this share of the last link's mass, or not significant (under
 # SIGNIFICANCE standard errors), is reported as none.
 MIN_PAYLOAD_FRACTION = 0.01
@@ -71,14 +77,16 @@ class ArmIdentification:
     rows: int = 0                 # equations used
     trimmed: int = 0              # equations left out as outliers (fit.py)
     unidentified: list = field(default_factory=list)  # held at the nominal value (fit.py)
+    smoothing: float = 0.0        # [s] the zero-phase filter's half-width used
 
     def as_dict(self) -> dict:
         def lst(x):  # JSON has no infinity: an unidentified parameter's error is null
             if x is None:
                 return None
             a = np.asarray(x, float)
-            return float(a) if a.ndim == 0 and np.isfinite(a) else (
-                None if a.ndim == 0 else [v if np.isfinite(v) else None for v in a.tolist()])
+            if a.ndim == 0:
+                return float(a) if np.isfinite(a) else None
+            return [lst(v) for v in a]
         return {"joints": self.joint_names, "armature": lst(self.armature),
                 "damping": lst(self.damping), "frictionloss": lst(self.frictionloss),
                 "payload": {"link": self.payload_link, "mass": self.payload_mass,
@@ -86,7 +94,8 @@ class ArmIdentification:
                 "delay": self.delay, "delay_ticks": self.delay_ticks, "lag": self.lag,
                 "stderr": {k: lst(v) for k, v in self.stderr.items()},
                 "residual_rms": self.residual_rms, "rows": self.rows,
-                "trimmed": self.trimmed, "unidentified": self.unidentified}
+                "trimmed": self.trimmed, "unidentified": self.unidentified,
+                "smoothing": self.smoothing}
 
 
 def zero_phase(x: np.ndarray, half_width: int) -> np.ndarray:
@@ -103,6 +112,16 @@ def zero_phase(x: np.ndarray, half_width: int) -> np.ndarray:
         width = (hi - lo).reshape((-1,) + (1,) * (out.ndim - 1))
         out = (c[hi] - c[lo]) / width
     return out
+
+
+def velocity_noise(logs) -> float:
+    """[rad/s] the largest white-noise level of any joint's qd in the logs (see NOISE_FLOOR)."""
+    level = 0.0
+    for log in logs:
+        d3 = np.diff(np.asarray(log["qd"], float), n=3, axis=0)
+        mad = np.median(np.abs(d3 - np.median(d3, axis=0)), axis=0)
+        level = max(level, float(np.max(1.4826 * mad / np.sqrt(20.0))))
+    return level
 
 
 def _rows(plant, regressor, log: SignalLog, smoothing: int = 0):
@@ -134,9 +153,16 @@ def _rows(plant, regressor, log: SignalLog, smoothing: int = 0):
 
 
 def identify_arm(robot, logs: list[SignalLog], *, payload: bool = True,
-                 smoothing: float = SMOOTHING) -> ArmIdentification:
+                 smoothing: float | None = None) -> ArmIdentification:
     """Estimates from `logs` what `robot` (the nominal file) should say; see the module doc.
-    smoothing [s]: the half-width of the zero-phase filter on q, qd and the torque (0: none)."""
+    smoothing [s]: the half-width of the zero-phase filter on q, qd and the torque (0: none;
+    None: SMOOTHING where the logs' velocity noise exceeds NOISE_FLOOR, else none)."""
+    for log in logs:
+        if "qd" not in log:
+            raise InputError("identify: the log has no 'qd' signal (an arm's log needs t, q, "
+                             "qd, tau)")
+    if smoothing is None:
+        smoothing = SMOOTHING if velocity_noise(logs) > NOISE_FLOOR else 0.0
     half = int(round(smoothing / DT))
     # The nominal rigid body: the file's URDF, no joint damping, friction or armature.
     plant = build_plant(robot, damping=0.0, frictionloss=0.0, armature=0.0)
@@ -205,6 +231,7 @@ def identify_arm(robot, logs: list[SignalLog], *, payload: bool = True,
         payload_com=com, payload_inertia=inertia, payload_link=m.body(last).name,
         delay=d * DT, delay_ticks=d, lag=lag, residual_rms=sol.residual_rms,
         residual_by_delay=by_delay, rows=len(phi) - sol.trimmed, trimmed=sol.trimmed,
+        smoothing=half * DT,
         unidentified=[_NAMES[i // nq] + (f"[{i % nq}]" if i < 3 * nq else "")
                       if i < 3 * nq else f"payload {PARAMETER_NAMES[i - 3 * nq]}"
                       for i in np.nonzero(~model.identifiable)[0]])
@@ -254,5 +281,5 @@ def summary(ident: ArmIdentification) -> list[str]:
         lines.append("not identifiable from these logs (the nominal value kept): "
                      + ", ".join(ident.unidentified))
     lines.append(f"residual     {ident.residual_rms:.3g} N m RMS over {ident.rows} equations "
-                 f"({ident.trimmed} outliers left out)")
+                 f"({ident.trimmed} outliers left out; smoothing {ident.smoothing * 1e3:g} ms)")
     return lines

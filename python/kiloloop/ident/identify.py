@@ -11,7 +11,7 @@ from ..sil.log import SignalLog
 def identify(robot, log_paths, out_path=None, smoothing: float | None = None
              ) -> tuple[object, list[str], dict]:
     """(the identification, summary lines, JSON-ready dict); writes the patch when out_path.
-    smoothing [s]: an arm's zero-phase filter half-width (None: arm.SMOOTHING)."""
+    smoothing [s]: an arm's zero-phase filter half-width (None: arm.identify_arm's choice)."""
     logs = []
     for p in log_paths:
         if not Path(p).is_file():
