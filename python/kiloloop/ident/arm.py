@@ -9,15 +9,16 @@ where the damping acts on the step's end velocity qd_k+1; MuJoCo's implicitfast)
 
 ID_nominal: the rigid-body inverse dynamics of the nominal file's URDF (no joint damping,
 friction or armature; MuJoCo's mj_inverse); Y pi: a payload rigidly on the chain's last link, its
-ten inertial parameters (regressors.py). q, qd and the applied torque pass the same zero-phase
-filter first (SMOOTHING: encoder noise would otherwise swamp the differentiated qd). Rows where a joint moves slowly (|qd| under SPEED_FRACTION
-of its peak speed in that log, or under MIN_SPEED, at either end of the step) leave that joint's
-equation out: friction is not Coulomb's there, neither a real drive's (Stribeck, stiction) nor
+ten inertial parameters (regressors.py). On a noisy log q, qd and the applied torque pass the
+same zero-phase filter first (SMOOTHING, NOISE_FLOOR: the noise would otherwise swamp the
+differentiated qd). Rows where a joint moves slowly (|qd| under SPEED_FRACTION of its peak speed
+in that log, or under MIN_SPEED, at either end of the step) leave that joint's equation out: friction is not Coulomb's there, neither a real drive's (Stribeck, stiction) nor
 MuJoCo's frictionloss, a soft constraint whose force grows with the speed up to the friction
 (measured on the UR5's wrist, 3 N m of friction behind 0.025 kg m^2: 2.7 N m on average between
 0.05 and 0.1 rad/s, 2.9 N m up to 0.2 rad/s, exactly 3 N m above).
 The actuation delay (whole ticks) and lag minimise the residual (fit.py); then the bounded fit
-gives the parameters (frictions, armatures and the payload mass >= 0).
+gives the parameters (frictions, armatures and the payload mass >= 0); what the logs cannot tell
+apart keeps the nominal file's value and is named.
 """
 from __future__ import annotations
 
