@@ -46,12 +46,12 @@ MAX_LAG = 0.05        # [s] searched
 # every parameter within 4 % and the delay exact. On a noise-free log it costs 0.2 % at 15 ms
 # of delay and up to 93 % at 28-33 ms (the loop rings there, and the friction's sign flips
 # inside the window: the equation holds between filtered signals only where q and the sign of
-# qd vary slowly across it), so it is used only where the log is noisy (NOISE_FLOOR).
+# qd vary slowly across it). Whether a log is noisy is told by the fits themselves (a noise
+# level estimated from qd's third difference mistook that ringing, 1.3e-4 rad/s, for noise).
 SMOOTHING = 0.01
-# [rad/s] white noise on qd above which the log is smoothed: its forward difference then carries
-# more than 0.014 rad/s^2 of noise. Estimated from the third difference of qd (std sqrt(20)
-# sigma for white noise; a smooth motion's is O(dt^3)), robustly (1.4826 MAD).
-NOISE_FLOOR = 1e-5
+# Residual RMS over the target's RMS under which the unfiltered fit is taken as it is (a
+# noise-free log of a plant the model describes: 1e-13 and less).
+EXACT_FIT = 1e-6
 # A payload lighter than this share of the last link's mass, or not significant (under
 # SIGNIFICANCE standard errors), is reported as none.
 MIN_PAYLOAD_FRACTION = 0.01
@@ -74,6 +74,7 @@ class ArmIdentification:
     delay_ticks: int
     lag: float                    # [s]
     residual_rms: float           # [N m] of the fit
+    relative_residual: float      # residual_rms over the target's RMS
     residual_by_delay: np.ndarray = field(repr=False, default=None)
     rows: int = 0                 # equations used
     trimmed: int = 0              # equations left out as outliers (fit.py)
@@ -115,16 +116,6 @@ def zero_phase(x: np.ndarray, half_width: int) -> np.ndarray:
     return out
 
 
-def velocity_noise(logs) -> float:
-    """[rad/s] the largest white-noise level of any joint's qd in the logs (see NOISE_FLOOR)."""
-    level = 0.0
-    for log in logs:
-        d3 = np.diff(np.asarray(log["qd"], float), n=3, axis=0)
-        mad = np.median(np.abs(d3 - np.median(d3, axis=0)), axis=0)
-        level = max(level, float(np.max(1.4826 * mad / np.sqrt(20.0))))
-    return level
-
-
 def _rows(plant, regressor, log: SignalLog, smoothing: int = 0):
     """The regressor's per-tick pieces of one log: tick indices, accelerations, end velocities,
     nominal inverse dynamics, payload regressors."""
@@ -157,14 +148,23 @@ def identify_arm(robot, logs: list[SignalLog], *, payload: bool = True,
                  smoothing: float | None = None) -> ArmIdentification:
     """Estimates from `logs` what `robot` (the nominal file) should say; see the module doc.
     smoothing [s]: the half-width of the zero-phase filter on q, qd and the torque (0: none;
-    None: SMOOTHING where the logs' velocity noise exceeds NOISE_FLOOR, else none)."""
+    None: the fit without it, and where that leaves more than EXACT_FIT of the torque
+    unexplained, the one with SMOOTHING too: whichever explains more)."""
     for log in logs:
         if "qd" not in log:
             raise InputError("identify: the log has no 'qd' signal (an arm's log needs t, q, "
                              "qd, tau)")
-    if smoothing is None:
-        smoothing = SMOOTHING if velocity_noise(logs) > NOISE_FLOOR else 0.0
-    half = int(round(smoothing / DT))
+    if smoothing is not None:
+        return _identify_arm(robot, logs, payload, int(round(smoothing / DT)))
+    plain = _identify_arm(robot, logs, payload, 0)
+    if plain.relative_residual < EXACT_FIT:
+        return plain
+    smoothed = _identify_arm(robot, logs, payload, int(round(SMOOTHING / DT)))
+    return smoothed if smoothed.relative_residual < plain.relative_residual else plain
+
+
+def _identify_arm(robot, logs, payload: bool, half: int) -> ArmIdentification:
+    """identify_arm with a zero-phase filter of half-width `half` ticks (0: none)."""
     # The nominal rigid body: the file's URDF, no joint damping, friction or armature.
     plant = build_plant(robot, damping=0.0, frictionloss=0.0, armature=0.0)
     m, nq = plant.model, plant.nq
@@ -231,6 +231,7 @@ def identify_arm(robot, logs: list[SignalLog], *, payload: bool = True,
         frictionloss=th[2 * nq:3 * nq], stderr=stderr, payload_mass=float(pm),
         payload_com=com, payload_inertia=inertia, payload_link=m.body(last).name,
         delay=d * DT, delay_ticks=d, lag=lag, residual_rms=sol.residual_rms,
+        relative_residual=sol.residual_rms / max(sol.target_rms, 1e-300),
         residual_by_delay=by_delay, rows=len(phi) - sol.trimmed, trimmed=sol.trimmed,
         smoothing=half * DT,
         unidentified=[_NAMES[i // nq] + (f"[{i % nq}]" if i < 3 * nq else "")

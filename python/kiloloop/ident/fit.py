@@ -81,6 +81,7 @@ class Solution:
     lag: float                 # [s]
     delay_residuals: np.ndarray  # residual RMS per candidate delay (at the chosen lag)
     trimmed: int = 0           # rows left out as outliers
+    target_rms: float = 0.0    # of the rows fitted, in the target's unit
 
 
 class LinearModel:
@@ -187,7 +188,8 @@ class LinearModel:
         stderr = self.full(stderr, np.full(len(self.prior), np.inf))
         res = y - self.phi @ scaled
         return Solution(theta, stderr, float(np.sqrt(np.mean(res ** 2))), int(delay_ticks),
-                        float(lag), np.asarray(rms_by_delay), int(np.sum(~self.rows)))
+                        float(lag), np.asarray(rms_by_delay), int(np.sum(~self.rows)),
+                        float(np.sqrt(np.mean(y ** 2))))
 
     def identify(self, max_delay_ticks: int, max_lag: float) -> Solution:
         """search, trim the outliers, search again near the first answer, solve."""
