@@ -40,15 +40,16 @@ STRIDE = 4            # ticks between the rows used (consecutive ticks add littl
 SKIP = 0.2            # [s] left out at a log's start (the controller's first transient)
 MAX_DELAY = 0.08      # [s] searched
 MAX_LAG = 0.05        # [s] searched
-# [s] half-width of the zero-phase filter on a noisy log (arm.zero_phase). Measured on the UR5
-# (30 s, friction x2, armature x0.5, payload, 21 ms): with encoder noise of 2e-3 rad/s and
-# 1e-5 rad, no filter gives armatures of 0 to 20 times the truth and a 45 ms delay; 10 ms gives
-# every parameter within 4 % and the delay exact. On a noise-free log it costs 0.2 % at 15 ms
-# of delay and up to 93 % at 28-33 ms (the loop rings there, and the friction's sign flips
-# inside the window: the equation holds between filtered signals only where q and the sign of
-# qd vary slowly across it). Whether a log is noisy is told by the fits themselves (a noise
-# level estimated from qd's third difference mistook that ringing, 1.3e-4 rad/s, for noise).
-SMOOTHING = 0.01
+# [s] half-widths of the zero-phase filter tried on a noisy log (arm.zero_phase). Measured on
+# the UR5 (30 s, friction x2, armature x0.5, payload; encoder noise of 2e-3 rad/s and 1e-5
+# rad): no filter gives armatures of 0 to 20 times the truth (21 ms of delay); 10 ms every
+# parameter within 4 % at 21 ms, but at 33 ms (the loop rings) the elbow's Coulomb friction 6 %
+# and wrist 3's armature 65 % off, 5 ms 1.4 % and 18 %: the equation holds between filtered
+# signals only where q and the sign of qd hold across the window. On a noise-free log any
+# filter costs (0.2 % at 15 ms, up to 93 % at 28-33 ms); whether a log is noisy is told by the
+# fits themselves (a noise level estimated from qd's third difference mistook that ringing,
+# 1.3e-4 rad/s, for noise), and the one that explains most of the torque is kept.
+SMOOTHING = (0.0025, 0.005, 0.01)
 # Residual RMS over the target's RMS under which the unfiltered fit is taken as it is (a
 # noise-free log of a plant the model describes: 1e-13 and less).
 EXACT_FIT = 1e-6
@@ -131,7 +132,8 @@ def _rows(plant, regressor, log: SignalLog, smoothing: int = 0):
         raise InputError(f"identify: the log must be sampled every {DT} s (at least 100 ticks)")
     # Smoothing (noisy encoders): the same zero-phase filter on the velocities and, in the
     # target, on the applied torque (linear: the equation holds between the filtered signals
-    # where M(q) varies slowly across the window).
+    # where M(q) and the sign of qd hold across the window).
+    raw = qd
     q, qd = zero_phase(q, smoothing), zero_phase(qd, smoothing)
     k = np.arange(int(round(SKIP / DT)), len(t) - 1, STRIDE)
     acc = (qd[k + 1] - qd[k]) / DT
@@ -139,6 +141,12 @@ def _rows(plant, regressor, log: SignalLog, smoothing: int = 0):
     slowest = np.maximum(MIN_SPEED, SPEED_FRACTION * np.max(np.abs(qd), axis=0))
     moving = (np.abs(qd[k]) > slowest) & (np.abs(v_end) > slowest) & (
         np.sign(qd[k]) == np.sign(v_end))
+    if smoothing:  # and over the filter's whole support (2 half-widths each side)
+        reach = 2 * smoothing
+        padded = np.pad(raw, ((reach, reach + 1), (0, 0)), mode="edge")
+        window = np.lib.stride_tricks.sliding_window_view(padded, 2 * reach + 2, axis=0)[k]
+        same_sign = np.all(np.sign(window) == np.sign(v_end)[:, :, None], axis=2)
+        moving &= same_sign & (np.min(np.abs(window), axis=2) > 0.5 * slowest)
     inv = np.array([plant.inverse_dynamics(q[i], qd[i], a) for i, a in zip(k, acc)])
     Y = np.array([regressor(q[i], qd[i], a) for i, a in zip(k, acc)])
     return k, acc, v_end, moving, inv, Y, tau
@@ -149,18 +157,21 @@ def identify_arm(robot, logs: list[SignalLog], *, payload: bool = True,
     """Estimates from `logs` what `robot` (the nominal file) should say; see the module doc.
     smoothing [s]: the half-width of the zero-phase filter on q, qd and the torque (0: none;
     None: the fit without it, and where that leaves more than EXACT_FIT of the torque
-    unexplained, the one with SMOOTHING too: whichever explains more)."""
+    unexplained, those with each of SMOOTHING too: whichever explains most)."""
     for log in logs:
         if "qd" not in log:
             raise InputError("identify: the log has no 'qd' signal (an arm's log needs t, q, "
                              "qd, tau)")
     if smoothing is not None:
         return _identify_arm(robot, logs, payload, int(round(smoothing / DT)))
-    plain = _identify_arm(robot, logs, payload, 0)
-    if plain.relative_residual < EXACT_FIT:
-        return plain
-    smoothed = _identify_arm(robot, logs, payload, int(round(SMOOTHING / DT)))
-    return smoothed if smoothed.relative_residual < plain.relative_residual else plain
+    best = _identify_arm(robot, logs, payload, 0)
+    if best.relative_residual < EXACT_FIT:
+        return best
+    for width in SMOOTHING:
+        fit = _identify_arm(robot, logs, payload, int(round(width / DT)))
+        if fit.relative_residual < best.relative_residual:
+            best = fit
+    return best
 
 
 def _identify_arm(robot, logs, payload: bool, half: int) -> ArmIdentification:

@@ -36,8 +36,8 @@ def add_parsers(sub) -> None:
                      help="write the identified robot file here (use it with --robot)")
     idf.add_argument("--json", action="store_true", help="print the result as JSON only")
     idf.add_argument("--smoothing", type=float, default=None, metavar="S",
-                     help="an arm's zero-phase filter half-width [s] (default: 0.01 where "
-                     "the log's velocities are noisy, else none; 0: none)")
+                     help="an arm's zero-phase filter half-width [s] (default: none where "
+                     "the fit is exact, else the best of 2.5, 5, 10 ms; 0: none)")
     idf.set_defaults(func=cmd_identify)
 
 
