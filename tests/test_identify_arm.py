@@ -166,3 +166,15 @@ def test_a_log_of_another_family_is_refused_with_what_is_missing(case, capsys):
 
     assert main(["identify", "aerial_manipulator", str(case[2])]) == 2
     assert "thrust_cmd" in capsys.readouterr().err
+
+
+def test_a_motor_lag_is_told_from_the_delay(case):
+    """12 ms of transport delay and an 8 ms first-order lag: a lag looks like more delay to a
+    slow motion; both are found."""
+    nominal = case[0]
+    ident = identify_arm(nominal, [excite(nominal, 4.0, seed=3, delay=0.012, motor_lag=0.008)])
+    assert ident.delay_ticks == 12
+    assert ident.lag == pytest.approx(0.008, rel=0.05)
+    damping, _, armature = nominal_joints(nominal)
+    assert np.allclose(ident.damping, damping, rtol=0.05)
+    assert np.allclose(ident.armature, armature, rtol=0.10)

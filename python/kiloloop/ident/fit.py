@@ -70,6 +70,7 @@ CONDITION = 1e-7   # smallest singular value over the largest (columns scaled to
 OUTLIER = 5.0       # robust standard deviations (1.4826 MAD) of a group's residuals
 TRIM_PASSES = 3
 NEAR = 8            # [ticks] delays searched again around a first answer
+LAG_PATIENCE = 3    # delays tried past the best when walking the delay down against the lag
 
 
 @dataclass
@@ -132,8 +133,8 @@ class LinearModel:
 
     def search(self, max_delay_ticks: int, max_lag: float, near=None) -> tuple[int, float, np.ndarray]:
         """The delay (whole ticks) and lag [s] that minimise the residual: delays at no lag,
-        then the lag at the best delay, then the delays near it again at that lag. near: an
-        earlier (delay, lag, residuals) to refine (only delays within NEAR ticks of it)."""
+        then from the best one down, each with its best lag (golden section). near: an earlier
+        (delay, lag, residuals) to refine (only delays within NEAR ticks of it, at its lag)."""
         if near is None:
             rms = np.array([self.rms(self.target(d, 0.0)) for d in range(max_delay_ticks + 1)])
             d = int(np.argmin(rms))
@@ -144,18 +145,25 @@ class LinearModel:
             d = lo + int(np.argmin(rms[lo:hi + 1]))
         lag = 0.0
         if max_lag > 0:
-            for _ in range(2):
-                x, fx = golden_section(lambda T: self.rms(self.target(d, T)), 0.0, max_lag,
-                                       1e-5)
-                lag = float(x) if fx < self.rms(self.target(d, 0.0)) else 0.0
-                lo, hi = max(0, d - NEAR), min(max_delay_ticks, d + NEAR)
-                local = [self.rms(self.target(k, lag)) for k in range(lo, hi + 1)]
-                d_new = lo + int(np.argmin(local))
-                rms = rms.copy()
-                rms[lo:hi + 1] = local
-                if d_new == d:
-                    break
-                d = d_new
+            # A lag T looks like T more delay to a slow motion: walk the delay down from the
+            # no-lag answer, each with its best lag, while the residual falls (a few more
+            # candidates past the best, then stop).
+            def best_lag(k):
+                x, fx = golden_section(lambda T: self.rms(self.target(k, T)), 0.0, max_lag, 1e-5)
+                f0 = self.rms(self.target(k, 0.0))
+                return (float(x), fx) if fx < f0 else (0.0, f0)
+            lag, best = best_lag(d)
+            worse = 0
+            for k in range(d - 1, max(-1, d - 1 - int(round(max_lag / 0.001))), -1):
+                T, f = best_lag(k)
+                if f < best:
+                    d, lag, best, worse = k, T, f, 0
+                else:
+                    worse += 1
+                    if worse >= LAG_PATIENCE:
+                        break
+            rms = rms.copy()
+            rms[d] = best
         return d, lag, rms
 
     def trim(self, delay_ticks: int, lag: float) -> int:
