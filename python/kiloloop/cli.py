@@ -452,6 +452,8 @@ def _build_parser() -> argparse.ArgumentParser:
     margins.add_argument("--json", action="store_true", help="print one JSON object")
     margins.add_argument("--plot", metavar="PNG", help="write the Bode plot")
     margins.set_defaults(func=cmd_margins)
+    from .ident.cli import add_parsers as add_identification  # excite, identify
+    add_identification(sub)
     return parser
 
 
