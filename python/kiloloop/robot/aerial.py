@@ -175,8 +175,12 @@ def _allocation_rows(robot):
 
     cfg = kl.AerialConfig()
     cfg.rotors = rotor_config(robot)
+    # The module's own class, not the package name `kl.AerialController`: a b2b recording
+    # (firmware/recording.py) takes the one made under that name as the run's controller.
+    from .. import _core
+
     with configuring(f"{robot.name} aerial controller"):  # e.g. rotors that cannot lift it
-        ctrl = kl.AerialController(model(robot), cfg)
+        ctrl = _core.AerialController(model(robot), cfg)
     alloc = ctrl.allocation
     rows = np.asarray(alloc.effectiveness if alloc.uses_lateral_rows else alloc.mixer)
     f0 = np.asarray(alloc.collective_share) * ctrl.hover_thrust
