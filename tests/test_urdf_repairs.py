@@ -126,6 +126,30 @@ def test_a_negligible_repair_is_made_without_asking_and_listed(tmp_path):
     assert any("'tool'" in n and "without asking" in n for n in plant.notes)
 
 
+def test_a_dummy_link_whose_inertia_is_not_positive_semi_definite_is_repaired(tmp_path):
+    # tiago_description's antenna links: 1 mg, products of inertia larger than the moments (a
+    # negative principal moment, -5e-8 kg m^2): refused by the loader before, for nothing.
+    antenna = ("  <joint name='antenna_joint' type='fixed'><parent link='link1'/><child "
+               "link='antenna'/><origin xyz='0 0.1 0'/></joint>\n  <link name='antenna'><inertial>"
+               "<mass value='0.000001'/><inertia ixx='0.00000002371' ixy='0.00000006119' "
+               "ixz='0.00000001179' iyy='0.00000002833' iyz='0.00000000774' izz='0.00000003849'/>"
+               "</inertial></link>\n")
+    plant = MujocoPlant(arm_urdf(tmp_path, extra=antenna), joints=["joint1", "joint2"],
+                        overlay={"ee": {"body": "link2"}})
+    assert any("'antenna'" in n and "without asking" in n and "not positive" in n
+               for n in plant.notes)
+
+
+def test_a_real_link_whose_inertia_is_not_positive_semi_definite_is_refused(tmp_path):
+    bad = ("<inertial><mass value='1'/><inertia ixx='0.01' iyy='0.01' izz='0.01' ixy='0.05' "
+           "ixz='0' iyz='0'/></inertial>")
+    urdf = arm_urdf(tmp_path)
+    urdf.write_text(urdf.read_text().replace(f"<link name='link2'>{_inertial(1.0, GOOD)}",
+                                             f"<link name='link2'>{bad}"))
+    code, out, err = robot_check(robot_file(tmp_path, urdf))
+    assert code == 2 and "'link2'" in err and "smallest principal moment -0.04 kg m^2 not positive" in err
+
+
 def test_a_moving_link_without_mass_is_refused_in_the_urdfs_terms(tmp_path):
     urdf = arm_urdf(tmp_path)
     urdf.write_text(urdf.read_text().replace(f"<link name='link2'>{_inertial(1.0, GOOD)}</link>",

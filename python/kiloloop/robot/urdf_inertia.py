@@ -16,11 +16,14 @@ MuJoCo's own balanceinertia sets all three to their mean, a larger change). It i
   hatch), and the composite is checked in turn;
 - else only with the robot file's `balance_inertia = true`; without it the link is refused with
   the inequality, its numbers and the fix.
-An all-zero inertia is MuJoCo's "none given" and left alone, except on a link that moves (a joint
-of its own): a point mass there is raised like the rest. Links without mass are left alone too
-(MuJoCo welds them; sil/mujoco_refusal.py names one that moves), and so are non-finite numbers,
-negative masses and negative moments beyond rounding: the C++ loader refuses those, naming the
-link (cpp/urdf/urdf_checks.cpp).
+A negative moment (a tensor that is not positive semi-definite) is one more moment not positive,
+under the same three rules: a dummy link's junk (tiago's 1 mg antennas, whose products of inertia
+exceed their moments) is repaired without asking; a real link's is refused, or balanced on
+request. An all-zero inertia is MuJoCo's "none given" and left alone, except on a link that moves
+(a joint of its own): a point mass there is raised like the rest. Links without mass are left
+alone too (MuJoCo welds them; sil/mujoco_refusal.py names one that moves), and so are non-finite
+numbers and negative masses: the C++ loader refuses those, naming the link
+(cpp/urdf/urdf_checks.cpp).
 """
 from __future__ import annotations
 
@@ -104,9 +107,6 @@ def total_mass(root: ET.Element) -> float:
 def needed_fix(link: str, mass: float, tensor: np.ndarray) -> InertiaFix | None:
     """The repair MuJoCo's compiler needs (module doc), None when it takes the tensor as is."""
     w, V = np.linalg.eigh(tensor)
-    scale = float(np.max(np.abs(tensor)))
-    if w[0] < -ROUNDING * scale:
-        return None  # not positive semi-definite: the C++ loader refuses it, naming the link
     raised = np.maximum(w, max(0.4 * mass * NEGLIGIBLE_RADIUS ** 2, 10 * MJ_POSITIVE)) \
         if w[0] < MJ_POSITIVE else w.copy()
     triangle = raised[0] + raised[1] < raised[2]
