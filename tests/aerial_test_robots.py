@@ -130,6 +130,21 @@ def write_multirotor(directory, name, n_rotors, arm_joints, com=(0.0, 0.0, 0.0),
     return path
 
 
+def run_passing(name, robot, duration=None, **overrides):
+    """Runs scenario `name` on `robot` (overrides as --set strings), prints its metrics, asserts it
+    passed naming the failed criteria; returns the result."""
+    import json
+
+    from kiloloop import scenarios
+
+    r = scenarios.run_named(name, robot, {k: str(v) for k, v in overrides.items()},
+                            duration=duration)
+    print(robot.name, name, json.dumps(r.metrics))
+    failed = {k: c["value"] for k, c in r.criteria.items() if not c["passed"]}
+    assert r.passed, f"{robot.name} {name}: {failed}"
+    return r
+
+
 def write_all(directory) -> dict:
     return {
         "iris": write_iris(directory),

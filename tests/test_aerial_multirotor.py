@@ -3,18 +3,17 @@ octorotor with a 2-joint arm and a body CoM away from the base origin, a hexarot
 rotors), each hovering, sweeping its arm with the reaction feed-forward and surviving a rotor
 fault, judged by the scenarios' own criteria; example-robot-data's iris (no arm) in
 test_aerial_iris.py. Robot-file errors name the key. Shortened runs: ~100 s in all on one free core."""
-import json
 
 import numpy as np
 import pytest
 
 import kiloloop as kl
-from kiloloop import scenarios
 from kiloloop.robot import Robot
 from kiloloop.robot import aerial as aerial_robot
 from kiloloop.robot_check import aerial as aerial_check
 from kiloloop.robot.robot_file import RobotFileError
 
+from aerial_test_robots import run_passing as run
 from aerial_test_robots import write_multirotor
 
 VEHICLES = {
@@ -28,15 +27,6 @@ VEHICLES = {
 def vehicle(request, tmp_path_factory):
     d = tmp_path_factory.mktemp(request.param)
     return Robot.load(write_multirotor(d, request.param, **VEHICLES[request.param]))
-
-
-def run(name, robot, duration=None, **overrides):
-    r = scenarios.run_named(name, robot, {k: str(v) for k, v in overrides.items()},
-                            duration=duration)
-    print(robot.name, name, json.dumps(r.metrics))
-    failed = {k: c["value"] for k, c in r.criteria.items() if not c["passed"]}
-    assert r.passed, f"{robot.name} {name}: {failed}"
-    return r
 
 
 def test_derived_controller(vehicle):

@@ -4,7 +4,6 @@ recovers from a push with the criteria of kiloloop's own vehicle, its gains deri
 margin; hector (thrust/weight 1.38) is refused the rotor fault it cannot ride out, 2-joint arms the
 reach. Robot files from tests/aerial_test_robots.py (rotor data typed from the vendors' models).
 Shortened runs: ~15 s in all on one free core."""
-import json
 import math
 
 import numpy as np
@@ -16,6 +15,7 @@ from kiloloop.errors import ScenarioRefused
 from kiloloop.robot import Robot
 from kiloloop.robot import aerial as aerial_robot
 
+from aerial_test_robots import run_passing as run
 from aerial_test_robots import write_borinot, write_hector, write_iris
 
 
@@ -24,15 +24,6 @@ def robots(tmp_path_factory):
     d = tmp_path_factory.mktemp("real_multirotors")
     return {"borinot": Robot.load(write_borinot(d)), "hector": Robot.load(write_hector(d)),
             "iris": Robot.load(write_iris(d))}
-
-
-def run(name, robot, duration=None, **overrides):
-    r = scenarios.run_named(name, robot, {k: str(v) for k, v in overrides.items()},
-                            duration=duration)
-    print(robot.name, name, json.dumps(r.metrics))
-    failed = {k: c["value"] for k, c in r.criteria.items() if not c["passed"]}
-    assert r.passed, f"{robot.name} {name}: {failed}"
-    return r
 
 
 def test_roll_pitch_authority_is_where_a_rotor_reaches_its_limit(robots):
